@@ -1,0 +1,131 @@
+"""The ``exprclone`` command.
+
+Errors a user can cause come out as one line on stderr and exit status 2; warnings as
+one line each. No output file is written unless the whole job succeeded.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import warnings
+from pathlib import Path
+
+from .errors import ExprCloneError
+
+EXIT_USAGE = 2
+
+
+def lambda_arg(text: str) -> float | str:
+    """``auto`` or a number >= 0 (``inf`` allowed: the local result)."""
+    if text == "auto":
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected 'auto' or a number >= 0, got {text!r}") from None
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"expected 'auto' or a number >= 0, got {text!r}")
+    return value
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from .clone import METHODS
+
+    parser = argparse.ArgumentParser(prog="exprclone", description="Facial expression cloning with elastic and muscle models (E+MD).")
+    sub = parser.add_subparsers(dest="command", required=True)
+    c = sub.add_parser("clone", help="put the source's expression on the target's face")
+    c.add_argument("source_neutral", help="photo of the source person, neutral")
+    c.add_argument("source_expression", help="photo of the source person with the expression")
+    c.add_argument("target_neutral", help="photo of the target person, neutral")
+    c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
+    c.add_argument("--method", choices=METHODS, default="e+md", help="method of the paper's Fig. 11 (default: e+md)")
+    c.add_argument("--lambda", dest="lambda_k", type=lambda_arg, default="auto", metavar="auto|FLOAT", help="elasticity ratio k_A'/k_N; auto picks it by the DB metric (default)")
+    c.add_argument("--save-json", metavar="OUT.json", help="write the landmarks of every stage, lambda_k and the DB curve")
+    for which in ("source-neutral", "source-expression", "target-neutral"):
+        c.add_argument(f"--{which}-landmarks", metavar="FILE", help=f"landmarks of the {which.replace('-', ' ')} photo (.json, or a WebMorph .tem) instead of detecting them")
+    c.add_argument("--eigenfaces", metavar="PATH", help="eigenface basis for the DB metric: a .npz, or a folder of face photos to train one on")
+    return parser
+
+
+def result_json(result, inputs: list[str]) -> dict:
+    """The JSON record of a clone: inputs, method, lambda_k, DB curve, landmarks of each stage."""
+    curve = result.db_curve
+    number = lambda v: None if v is None else (v if v != float("inf") else "inf")  # noqa: E731
+    return {
+        "inputs": dict(zip(("source_neutral", "source_expression", "target_neutral"), inputs)),
+        "method": result.method,
+        "lambda_k": number(result.lambda_k),
+        "db_curve": None if curve is None else [{"lambda_k": number(float(lam)), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],
+        "muscle_strengths": None if result.muscle_strengths is None else [float(h) for h in result.muscle_strengths],
+        "unfolded_points": result.unfolded_points,
+        "landmarks": {k: v.round(3).tolist() for k, v in result.landmarks.items()},
+    }
+
+
+def load_eigenfaces(path: str | None):
+    """The basis named by ``--eigenfaces``: None (packaged), a .npz, or a folder to train on."""
+    if path is None:
+        return None
+    from .eigenface import Eigenfaces, train
+    from .clone import default_detector
+    from .layout import DLIB68
+
+    p = Path(path)
+    if p.is_dir():
+        photos = sorted(str(q) for q in p.iterdir() if q.suffix.lower() in {".jpg", ".jpeg", ".png", ".bmp", ".tif", ".tiff", ".webp"})
+        if len(photos) < 3:
+            raise ExprCloneError(f"{path}: needs at least 3 face photos to train eigenfaces, found {len(photos)}")
+        return train(photos, default_detector(), DLIB68)
+    try:
+        return Eigenfaces.load(p)
+    except (OSError, ValueError, KeyError) as e:
+        raise ExprCloneError(f"{path}: not an eigenface basis (.npz with mean, components, size): {e}") from None
+
+
+def read_landmarks(path: str, shape: tuple[int, ...]):
+    """Landmarks from a file given on the command line (.json or .tem)."""
+    from .landmark_files import read_landmarks as read
+
+    return read(path, shape)
+
+
+def run_clone(args: argparse.Namespace) -> None:
+    from .clone import clone
+    from .images import atomic_write, check_output_path, load_image, save_image
+
+    inputs = [args.source_neutral, args.source_expression, args.target_neutral]
+    check_output_path(args.output, inputs)
+    if args.save_json:
+        check_output_path(args.save_json, inputs + [args.output], extensions=[".json"])
+    images = [load_image(p) for p in inputs]
+    files = (args.source_neutral_landmarks, args.source_expression_landmarks, args.target_neutral_landmarks)
+    landmarks = tuple(None if f is None else read_landmarks(f, im.shape) for f, im in zip(files, images))
+    result = clone(*images, method=args.method, lambda_k=args.lambda_k, landmarks=landmarks, eigenfaces=load_eigenfaces(args.eigenfaces), names=tuple(inputs))
+    save_image(args.output, result.image, inputs=inputs)
+    if args.save_json:
+        record = json.dumps(result_json(result, inputs), indent=1).encode()
+        atomic_write(args.save_json, lambda f: f.write(record))
+    extra = "" if result.lambda_k is None else f", lambda_k={result.lambda_k:g}"
+    print(f"{args.output}: {args.method}{extra}")
+
+
+def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings as one line each on stderr, no source location."""
+    print(f"exprclone: warning: {message}", file=sys.stderr)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    warnings.showwarning = show_warning
+    try:
+        {"clone": run_clone}[args.command](args)
+    except ExprCloneError as e:
+        print(f"exprclone: error: {e}", file=sys.stderr)
+        return EXIT_USAGE
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

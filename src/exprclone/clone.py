@@ -1,0 +1,193 @@
+"""The E+MD pipeline (paper Fig. 5) and the other six methods of Fig. 11.
+
+Stages: landmarks -> global warping GI -> local warping LI -> elastic model (lambda_k
+by the DB metric) -> geometric warp FI -> ERI -> MD model -> F_IMG.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import elastic, eri, geometry, global_warp, lips, local_warp, metric, muscle, warp
+from .eigenface import Eigenfaces
+from .errors import ExprCloneError
+from .landmarks import Detector
+from .layout import DLIB68, Layout
+
+#: The seven methods of Fig. 11, (a)-(g).
+METHODS = ("global", "local", "elastic", "global+eri", "local+eri", "elastic+eri", "e+md")
+
+
+@dataclass
+class CloneResult:
+    """A cloned expression and every intermediate worth looking at.
+
+    Attributes
+    ----------
+    image : ndarray of shape (H, W, 3), uint8
+        The target person with the source's expression (the target photo's size).
+    method : str
+    landmarks : dict of str to ndarray of shape (N, 2)
+        ``source_neutral``, ``source_expression``, ``target_neutral`` (the inputs),
+        ``global`` (GI), ``local`` (LI), ``elastic`` (for the chosen lambda_k) and
+        ``final`` (the geometry of the output, after fold-over relaxation).
+    lambda_k : float or None
+        The elasticity ratio used (None for methods without the elastic model).
+    db_curve : metric.DBCurve or None
+        DB value per candidate lambda_k, when lambda_k was chosen automatically.
+    eri : ndarray of shape (H, W) or None
+        The expression ratio image in the target's frame (1 where nothing changes).
+    muscle_mask : ndarray of shape (H, W) or None
+        The MD model's detail-importance mask M (e+md only).
+    muscle_strengths : ndarray of shape (A,) or None
+        ``h`` of each key muscle area (e+md only).
+    unfolded_points : int
+        Control points moved to stop triangles folding over.
+    """
+
+    image: np.ndarray
+    method: str
+    landmarks: dict[str, np.ndarray]
+    lambda_k: float | None = None
+    db_curve: metric.DBCurve | None = None
+    eri: np.ndarray | None = None
+    muscle_mask: np.ndarray | None = None
+    muscle_strengths: np.ndarray | None = None
+    unfolded_points: int = 0
+
+
+@functools.cache
+def default_detector() -> Detector:
+    """One shared lazily-loaded detector for calls that pass none."""
+    return Detector()
+
+
+@functools.cache
+def default_eigenfaces() -> Eigenfaces:
+    """The eigenface basis shipped with the package, loaded once."""
+    return Eigenfaces.default()
+
+
+def check_image(image: np.ndarray, name: str) -> np.ndarray:
+    """An (H, W, 3) uint8 RGB image, or ExprCloneError naming it."""
+    image = np.asarray(image)
+    if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
+        raise ExprCloneError(f"{name}: expected an (H, W, 3) uint8 RGB image, got shape {image.shape} dtype {image.dtype}")
+    return image
+
+
+def check_landmarks(points: np.ndarray, image: np.ndarray, layout: Layout, name: str) -> np.ndarray:
+    """Landmarks as an ``(N, 2)`` float array inside the image, or ExprCloneError naming them."""
+    points = np.asarray(points, float)
+    if points.shape != (layout.n_points, 2):
+        raise ExprCloneError(f"{name}: expected {layout.n_points} landmarks of (x, y), got an array of shape {points.shape}")
+    h, w = image.shape[:2]
+    outside = ~np.isfinite(points).all(1) | (points[:, 0] < 0) | (points[:, 0] > w - 1) | (points[:, 1] < 0) | (points[:, 1] > h - 1)
+    if outside.any():
+        i = int(np.flatnonzero(outside)[0])
+        raise ExprCloneError(f"{name}: landmark {i} at {tuple(points[i])} is outside the {w}x{h} image")
+    return points
+
+
+def clone(
+    source_neutral: np.ndarray,
+    source_expression: np.ndarray,
+    target_neutral: np.ndarray,
+    method: str = "e+md",
+    lambda_k: float | str = "auto",
+    landmarks: tuple[np.ndarray | None, np.ndarray | None, np.ndarray | None] | None = None,
+    *,
+    detector: Detector | None = None,
+    eigenfaces: Eigenfaces | None = None,
+    layout: Layout = DLIB68,
+    names: tuple[str, str, str] = ("source_neutral", "source_expression", "target_neutral"),
+) -> CloneResult:
+    """Put the source's expression on the target's face.
+
+    Parameters
+    ----------
+    source_neutral, source_expression, target_neutral : ndarray of shape (H, W, 3), uint8 RGB
+        The three photos; they may differ in size.
+    method : str
+        One of :data:`METHODS`.
+    lambda_k : float or "auto"
+        Elasticity ratio ``k_A' / k_N`` (Eq. 6); "auto" picks it by the DB metric (Eq. 8).
+    landmarks : tuple of three (N, 2) arrays or None, optional
+        Known landmarks for each photo; None entries are detected.
+    detector : Detector, optional
+    eigenfaces : Eigenfaces, optional
+        Basis of the DB metric; the packaged one by default.
+    layout : Layout
+    names : tuple of str
+        How to name the three photos in error messages (their file paths).
+
+    Returns
+    -------
+    CloneResult
+    """
+    if method not in METHODS:
+        raise ExprCloneError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
+    if lambda_k != "auto" and not (isinstance(lambda_k, (int, float)) and lambda_k >= 0):
+        raise ExprCloneError(f"lambda_k must be 'auto' or a number >= 0, got {lambda_k!r}")
+    images = [check_image(im, n) for im, n in zip((source_neutral, source_expression, target_neutral), names)]
+    given = landmarks if landmarks is not None else (None, None, None)
+    detector = detector or default_detector()
+    pts = [
+        lips.uncross(detector.detect(im, n) if p is None else check_landmarks(p, im, layout, n), layout)
+        for im, p, n in zip(images, given, names)
+    ]
+    s_neu, s_exp, t_neu = pts
+    src_neu_img, src_exp_img, tgt_img = images
+
+    mesh = warp.build_mesh(t_neu, tgt_img.shape, layout)
+    gl = global_warp.global_landmarks(s_neu, s_exp, t_neu, layout)
+    lo = local_warp.local_landmarks(gl, s_exp, layout)
+    result_pts = {"source_neutral": s_neu, "source_expression": s_exp, "target_neutral": t_neu, "global": gl, "local": lo}
+
+    geometry_kind = method.split("+")[0] if method != "e+md" else "elastic"
+    chosen, curve = None, None
+    if geometry_kind == "elastic":
+        neighbours = mesh.neighbours()
+        if lambda_k == "auto":
+            lambdas = np.array(metric.LAMBDAS)
+            candidates = [elastic.elastic_landmarks(gl, lo, neighbours, lam) for lam in lambdas]
+            curve = metric.choose_lambda(tgt_img, mesh, candidates, lambdas, src_exp_img, s_exp, eigenfaces or default_eigenfaces(), layout)
+            chosen = curve.best
+            el = candidates[int(np.flatnonzero(lambdas == chosen)[0])]
+        else:
+            chosen = float(lambda_k)
+            el = elastic.elastic_landmarks(gl, lo, neighbours, chosen)
+        result_pts["elastic"] = el
+        final = el
+    else:
+        final = gl if geometry_kind == "global" else lo
+
+    dst, n_fixed = warp.unfold(mesh.points, mesh.control_points(lips.uncross(final, layout)), mesh.triangles, mesh.n_moving)
+    result_pts["final"] = dst[: mesh.n_landmarks]
+    fi = warp.warp(tgt_img, mesh.points, dst, mesh.triangles)
+    result = CloneResult(fi, method, result_pts, chosen, curve, unfolded_points=n_fixed)
+    if not method.endswith("eri") and method != "e+md":
+        return result
+
+    # ERI: both source photos warped to the target's final geometry (Liu et al.)
+    warped = []
+    for img, p in ((src_neu_img, s_neu), (src_exp_img, s_exp)):
+        to_source = geometry.fit_similarity(t_neu[list(layout.rigid)], p[list(layout.rigid)])
+        src_ctrl = mesh.control_points(p, to_source)
+        warped.append(warp.warp(img, src_ctrl, dst, mesh.triangles, tgt_img.shape[:2]))
+    final_lm = dst[: mesh.n_landmarks]
+    mask = eri.ratio_mask(tgt_img.shape[:2], final_lm, dst[mesh.n_landmarks : mesh.n_moving], layout)
+    ratio = eri.expression_ratio(warped[0], warped[1], mask, geometry.interocular(final_lm, layout))
+    result.eri = ratio
+    if method == "e+md":
+        centres, radii = muscle.areas(final_lm, layout)
+        h = muscle.strengths(s_neu, global_warp.remove_head_motion(s_neu, s_exp, layout), layout)
+        result.muscle_mask = muscle.importance_mask(tgt_img.shape[:2], centres, radii, h)
+        result.muscle_strengths = h
+        result.image = eri.apply_details(fi, ratio, result.muscle_mask)
+    else:
+        result.image = eri.apply_details(fi, ratio)
+    return result

@@ -1,0 +1,104 @@
+"""The elastic model, Eqs. (3)-(6): a balance of the global and local positions.
+
+Every landmark ``P`` hangs on springs to its triangulation neighbours ``B_i`` (held at
+their global positions, rest lengths those of the global result, stiffness ``k_N``)
+and on one spring of rest length zero to its local position ``A'`` (stiffness
+``k_A'``). Its final place ``P_opt`` is where the net force vanishes, searched inside
+the window bounded by the global position ``A`` and ``A'`` (Eq. 5, Fig. 8).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: candidates per side of the search window in each pass of the grid search.
+GRID = 9
+#: passes of the grid search; each re-centres a window of two grid steps on the best point.
+PASSES = 4
+
+
+def pad_neighbours(neighbours: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Pad per-point neighbour lists into an index array and a validity mask, ``(N, K)``."""
+    k = max(len(n) for n in neighbours)
+    index = np.zeros((len(neighbours), k), np.int64)
+    mask = np.zeros((len(neighbours), k), bool)
+    for i, n in enumerate(neighbours):
+        index[i, : len(n)] = n
+        mask[i, : len(n)] = True
+    return index, mask
+
+
+def net_force(p: np.ndarray, a: np.ndarray, a_local: np.ndarray, b: np.ndarray, mask: np.ndarray, lambda_k: float) -> np.ndarray:
+    """Net spring force on candidate positions, in units of ``k_N`` (Eqs. 3, 4, 6).
+
+    ``F_Bi(P) = k_N * dl_Bi(P) * e_Bi(P)`` with ``dl_Bi(P) = |P - B_i| - |A - B_i|`` (zero
+    at ``P = A``) and ``e_Bi`` the unit vector from ``P`` to ``B_i``;
+    ``F_A'(P) = k_A' * |P - A'| * e_A'(P) = k_A' (A' - P)``. Dividing by ``k_N`` leaves
+    ``lambda_k = k_A' / k_N`` (Eq. 6) as the one parameter.
+
+    Parameters
+    ----------
+    p : ndarray of shape (N, M, 2)
+        M candidate positions for each of N points.
+    a, a_local : ndarray of shape (N, 2)
+        Global positions ``A`` and local positions ``A'``.
+    b : ndarray of shape (N, K, 2)
+        Neighbour positions ``B_i`` (global).
+    mask : ndarray of shape (N, K)
+        Which neighbour slots are real.
+    lambda_k : float
+
+    Returns
+    -------
+    ndarray of shape (N, M, 2)
+    """
+    rest = np.linalg.norm(a[:, None, :] - b, axis=-1)  # (N, K)
+    to_b = b[:, None, :, :] - p[:, :, None, :]  # (N, M, K, 2)
+    length = np.linalg.norm(to_b, axis=-1)
+    stretch = (length - rest[:, None, :]) * mask[:, None, :]
+    f_b = (stretch / np.maximum(length, 1e-12))[..., None] * to_b
+    return f_b.sum(axis=2) + lambda_k * (a_local[:, None, :] - p)
+
+
+def elastic_landmarks(global_pts: np.ndarray, local_pts: np.ndarray, neighbours: list[np.ndarray], lambda_k: float) -> np.ndarray:
+    """``P_opt`` for every landmark, Eq. (5), by a refining grid search in the window.
+
+    All points are solved at once (vectorised); each sees its neighbours at their
+    global positions, as in Figs. 6-7. ``lambda_k = 0`` gives the global positions,
+    ``lambda_k = inf`` (``k_N = 0``) the local ones.
+
+    Parameters
+    ----------
+    global_pts, local_pts : ndarray of shape (N, 2)
+        ``A`` and ``A'`` of every landmark.
+    neighbours : list of ndarray
+        Triangulation neighbours of each landmark (:meth:`Mesh.neighbours`).
+    lambda_k : float
+        Elasticity ratio ``k_A' / k_N`` (Eq. 6), ``>= 0``.
+
+    Returns
+    -------
+    ndarray of shape (N, 2)
+    """
+    if np.isinf(lambda_k):
+        return local_pts.copy()
+    index, mask = pad_neighbours(neighbours)
+    b = global_pts[index]
+    lo = np.minimum(global_pts, local_pts)
+    hi = np.maximum(global_pts, local_pts)
+    centre, half = (lo + hi) / 2, (hi - lo) / 2
+    steps = np.linspace(-1.0, 1.0, GRID)
+    offsets = np.stack(np.meshgrid(steps, steps, indexing="ij"), -1).reshape(-1, 2)  # (M, 2)
+    # The window's corners A and A' are candidates of the first pass.
+    best = global_pts.copy()
+    best_norm = np.linalg.norm(net_force(best[:, None], global_pts, local_pts, b, mask, lambda_k)[:, 0], axis=-1)
+    for _ in range(PASSES):
+        cand = np.clip(centre[:, None, :] + offsets[None] * half[:, None, :], lo[:, None], hi[:, None])
+        norms = np.linalg.norm(net_force(cand, global_pts, local_pts, b, mask, lambda_k), axis=-1)
+        k = norms.argmin(axis=1)
+        rows = np.arange(len(cand))
+        better = norms[rows, k] < best_norm
+        best[better] = cand[rows, k][better]
+        best_norm[better] = norms[rows, k][better]
+        centre, half = best, half * 2 / (GRID - 1)
+    return best

@@ -1,0 +1,94 @@
+"""Expression ratio image (ERI, Liu, Shan and Zhang 2001): the illumination details.
+
+Both source photos are warped to the target's final geometry; the ratio of their
+luminances, ``ERI = Y_expression / Y_neutral``, holds the shading that the expression
+creates (wrinkles, folds, dimples) without the source's skin or identity. It is
+low-pass filtered against noise and misregistration, clamped, and faded to 1 outside a
+feathered face mask and inside the eyes and the mouth opening, whose content (irises,
+teeth) differs between people and is not shading.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from . import geometry
+from .layout import Layout
+
+#: added to both luminances (in [0, 1]) so that dark pixels give no NaN or infinity.
+EPS = 0.02
+#: Gaussian filter of the ratio, sigma in inter-ocular distances.
+FILTER_SIGMA = 0.012
+#: the ratio is clamped to this range.
+CLAMP = (0.6, 1.6)
+#: feathering of the masks, sigma in inter-ocular distances.
+FEATHER = 0.04
+
+
+def luminance(image: np.ndarray) -> np.ndarray:
+    """Rec. 601 luma of a uint8 RGB image, float32 in [0, 1]."""
+    return cv2.cvtColor(image, cv2.COLOR_RGB2GRAY).astype(np.float32) / 255.0
+
+
+def ratio_mask(shape: tuple[int, int], landmarks: np.ndarray, forehead: np.ndarray, layout: Layout) -> np.ndarray:
+    """Feathered mask in [0, 1]: 1 on the face, 0 off it and in the eyes and mouth opening.
+
+    Parameters
+    ----------
+    shape : (H, W)
+    landmarks : ndarray of shape (N, 2)
+        The face's landmarks in this frame.
+    forehead : ndarray of shape (F, 2)
+        Forehead control points (the face hull reaches up to them).
+    layout : Layout
+    """
+    iod = geometry.interocular(landmarks, layout)
+    mask = np.zeros(shape, np.float32)
+    hull = cv2.convexHull(np.concatenate([landmarks[list(layout.jaw)], forehead]).astype(np.float32))
+    cv2.fillConvexPoly(mask, np.round(hull).astype(np.int32), 1.0)
+    # shrink by the feather width so the fade ends inside the face, not on the background
+    k = max(1, int(round(2 * FEATHER * iod)))
+    mask = cv2.erode(mask, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * k + 1, 2 * k + 1)))
+    for holes in (*layout.eyes, layout.mouth_inner):
+        cv2.fillPoly(mask, [np.round(landmarks[list(holes)]).astype(np.int32)], 0.0)
+    return np.clip(cv2.GaussianBlur(mask, (0, 0), FEATHER * iod), 0.0, 1.0)
+
+
+def expression_ratio(neutral_warped: np.ndarray, expression_warped: np.ndarray, mask: np.ndarray, iod: float) -> np.ndarray:
+    """The filtered, clamped and masked ERI, ``(H, W)`` float32, 1 where nothing changes.
+
+    Parameters
+    ----------
+    neutral_warped, expression_warped : ndarray of shape (H, W, 3), uint8
+        The source's two photos warped to the target's final geometry.
+    mask : ndarray of shape (H, W)
+        :func:`ratio_mask`.
+    iod : float
+        Inter-ocular distance of the target face, for the filter size.
+    """
+    ratio = (luminance(expression_warped) + EPS) / (luminance(neutral_warped) + EPS)
+    ratio = cv2.GaussianBlur(ratio, (0, 0), max(FILTER_SIGMA * iod, 0.5))
+    ratio = np.clip(ratio, *CLAMP)
+    return 1.0 + mask * (ratio - 1.0)
+
+
+def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | float = 1.0) -> np.ndarray:
+    """Eq. (9) applied: ``F_IMG = FI * (1 + M * IL)`` with ``IL = ERI - 1``.
+
+    With ``M = 1`` this is Liu et al.'s ERI transfer (``FI * ERI``); the MD model passes
+    its detail-importance mask ``M`` (:func:`exprclone.muscle.importance_mask`).
+
+    Parameters
+    ----------
+    image : ndarray of shape (H, W, 3), uint8
+        The geometrically warped target FI.
+    eri : ndarray of shape (H, W)
+    importance : ndarray of shape (H, W) or float
+
+    Returns
+    -------
+    ndarray of shape (H, W, 3), uint8
+    """
+    gain = 1.0 + importance * (eri - 1.0)
+    return np.clip(image * gain[..., None] + 0.5, 0, 255).astype(np.uint8)

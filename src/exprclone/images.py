@@ -1,0 +1,282 @@
+"""Image files in and out, at the edge of the package.
+
+Inside exprclone an image is a numpy array of shape (H, W, 3), dtype uint8, RGB order.
+:func:`load_image` turns any image file Pillow can read into that form, and
+:func:`save_image` writes one atomically, so no half-written output ever exists.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import warnings
+from collections.abc import Callable, Iterable
+from typing import IO
+
+import cv2
+import numpy as np
+from PIL import ExifTags, Image, ImageOps, UnidentifiedImageError
+
+from exprclone.errors import ExprCloneError, ExprCloneWarning
+
+PathLike = str | os.PathLike[str]
+
+MIN_SIDE = 32
+"""Smallest width and height, in pixels, that :func:`load_image` accepts."""
+
+_FORMATS: dict[str, tuple[str, dict[str, int]]] = {
+    ".png": ("PNG", {}),
+    ".jpg": ("JPEG", {"quality": 95}),
+    ".jpeg": ("JPEG", {"quality": 95}),
+    ".bmp": ("BMP", {}),
+    ".tif": ("TIFF", {}),
+    ".tiff": ("TIFF", {}),
+    ".webp": ("WEBP", {"quality": 95}),
+}
+_GRAY_MODES = {"1", "L", "LA", "La"}
+_PLAIN_MODES = _GRAY_MODES | {"RGB", "RGBA", "RGBa", "RGBX", "P", "PA"}
+
+
+def load_image(path: PathLike) -> np.ndarray:
+    """Read an image file as 8-bit RGB, upright according to its EXIF orientation.
+
+    Transparent areas are composited over white; grayscale, palette, CMYK and
+    16-bit or floating-point images are converted. A conversion the user should
+    know about is reported by one :class:`ExprCloneWarning` naming the file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The image file; any format Pillow reads.
+
+    Returns
+    -------
+    numpy.ndarray
+        Array of shape (H, W, 3), dtype uint8, RGB order.
+
+    Raises
+    ------
+    ExprCloneError
+        If the file is missing, unreadable, not an image, corrupt or truncated,
+        or smaller than ``MIN_SIDE`` pixels on a side.
+    """
+    image, rawmode = _open(path)
+    with image:
+        width, height = image.size
+        if min(width, height) < MIN_SIDE:
+            raise ExprCloneError(
+                f"{path}: image is too small ({width}x{height} pixels; "
+                f"at least {MIN_SIDE} on each side needed)"
+            )
+        notes = []
+        if image.mode in ("RGB", "RGBA") and ";16" in rawmode:
+            image.frombytes(_read_16bit_colour(path, image).tobytes())
+            notes.append("16-bit colour reduced to 8 bits per channel")
+        orientation = image.getexif().get(ExifTags.Base.Orientation, 1)
+        if orientation in range(2, 9):
+            notes.append(f"turned upright as its EXIF orientation ({orientation}) asks")
+        rgb = _to_rgb(ImageOps.exif_transpose(image), rawmode, notes)
+    if notes:
+        warnings.warn(f"{path}: {'; '.join(notes)}", ExprCloneWarning, stacklevel=2)
+    return rgb
+
+
+def check_output_path(path: PathLike, inputs: Iterable[PathLike] = (), extensions: Iterable[str] | None = None) -> None:
+    """Check, before any work is done, that an output file can be written at ``path``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output file; its extension chooses the format.
+    inputs : iterable of str or os.PathLike
+        Input files that the output must not overwrite.
+    extensions : iterable of str, optional
+        Allowed extensions (with the dot); the image formats by default.
+
+    Raises
+    ------
+    ExprCloneError
+        If the extension is not a known image format, ``path`` is one of
+        ``inputs`` or a directory, or its directory is missing or not writable.
+    """
+    extension = os.path.splitext(path)[1].lower()
+    allowed = list(_FORMATS) if extensions is None else list(extensions)
+    if extension not in allowed:
+        raise ExprCloneError(f"{path}: unknown output format '{extension}' (use {' or '.join(allowed[:2])})")
+    if any(_same_file(path, source) for source in inputs):
+        raise ExprCloneError(f"{path}: output would overwrite input file")
+    if os.path.isdir(path):
+        raise ExprCloneError(f"{path}: is a directory")
+    directory = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(directory):
+        raise ExprCloneError(f"{path}: output directory {directory} does not exist")
+    if not os.access(directory, os.W_OK | os.X_OK):
+        raise ExprCloneError(f"{path}: output directory {directory} is not writable")
+
+
+def save_image(path: PathLike, image: np.ndarray, *, inputs: Iterable[PathLike] = ()) -> None:
+    """Write an image atomically: the file at ``path`` is either complete or untouched.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output file; its extension (.png, .jpg, .jpeg, .bmp, .tif, .tiff,
+        .webp) chooses the format. JPEG and WebP are written at quality 95.
+    image : numpy.ndarray
+        uint8 array of shape (H, W, 3) in RGB order, or (H, W) grayscale.
+    inputs : iterable of str or os.PathLike
+        Input files that the output must not overwrite.
+
+    Raises
+    ------
+    ExprCloneError
+        If :func:`check_output_path` rejects ``path`` or the file cannot be written.
+    ValueError
+        If ``image`` is not a uint8 array of shape (H, W, 3) or (H, W).
+    """
+    check_output_path(path, inputs)
+    if image.dtype != np.uint8 or not (image.ndim == 2 or image.shape[2:] == (3,)):
+        raise ValueError(f"expected a uint8 (H, W, 3) or (H, W) image, got {image.dtype} {image.shape}")
+    image_format, options = _FORMATS[os.path.splitext(path)[1].lower()]
+    atomic_write(path, lambda f: Image.fromarray(image).save(f, format=image_format, **options))
+
+
+def atomic_write(path: PathLike, write: Callable[[IO[bytes]], object]) -> None:
+    """Write a file through ``write(file)`` so that ``path`` is either complete or untouched.
+
+    The data goes to a temporary file in the same folder, is flushed to disk, then
+    renamed over ``path``; on any failure the temporary file is removed.
+
+    Raises
+    ------
+    ExprCloneError
+        If the file cannot be written.
+    """
+    directory, name = os.path.split(os.path.abspath(path))
+    try:
+        temporary = tempfile.NamedTemporaryFile(dir=directory, prefix=f".{name}.", suffix=os.path.splitext(name)[1], delete=False)
+    except OSError as exc:
+        raise ExprCloneError(f"{path}: cannot be written ({exc.strerror})") from exc
+    try:
+        with temporary:
+            write(temporary)
+            temporary.flush()
+            os.fsync(temporary.fileno())
+        os.chmod(temporary.name, _new_file_mode())
+        os.replace(temporary.name, path)
+    except BaseException as exc:
+        os.unlink(temporary.name)
+        if isinstance(exc, (OSError, ValueError)):
+            raise ExprCloneError(f"{path}: cannot be written ({exc})") from exc
+        raise
+
+
+def _open(path: PathLike) -> tuple[Image.Image, str]:
+    """Open ``path`` and decode its pixels; return the image and the raw mode it was stored in."""
+    if os.path.isdir(path):
+        raise ExprCloneError(f"{path}: is a directory")
+    image = None
+    try:
+        image = Image.open(path)
+        rawmode = _stored_rawmode(image)
+        image.load()
+    except (OSError, SyntaxError, ValueError, EOFError, Image.DecompressionBombError) as exc:
+        if image is not None:
+            image.close()
+        raise _read_error(path, exc) from exc
+    return image, rawmode
+
+
+def _stored_rawmode(image: Image.Image) -> str:
+    """Pillow's name for the pixel layout in the file (such as 'RGB;16B'); read before loading."""
+    if not image.tile:
+        return ""
+    args = image.tile[0][3]
+    return args[0] if isinstance(args, tuple) else str(args)
+
+
+def _read_error(path: PathLike, exc: BaseException) -> ExprCloneError:
+    """The ExprCloneError for a failure to open or decode ``path``."""
+    if isinstance(exc, FileNotFoundError):
+        problem = "no such file"
+    elif isinstance(exc, PermissionError):
+        problem = "cannot be read (permission denied)"
+    elif isinstance(exc, UnidentifiedImageError):
+        problem = "not an image (cannot be read by Pillow)"
+    elif isinstance(exc, Image.DecompressionBombError):
+        problem = f"image is too large ({exc})"
+    elif isinstance(exc, OSError) and exc.errno is not None:
+        problem = f"cannot be read ({exc.strerror})"
+    else:
+        problem = f"image data is corrupt or truncated ({exc})"
+    return ExprCloneError(f"{path}: {problem}")
+
+
+def _read_16bit_colour(path: PathLike, image: Image.Image) -> np.ndarray:
+    """Read the 16-bit RGB(A) pixels Pillow truncates, scaled to uint8 in Pillow's channel order."""
+    try:
+        data = cv2.imdecode(np.fromfile(path, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
+    except OSError as exc:
+        raise _read_error(path, exc) from exc
+    bands = len(image.getbands())
+    if data is None or data.dtype != np.uint16 or data.shape != (image.height, image.width, bands):
+        raise ExprCloneError(f"{path}: image data is corrupt or truncated (16-bit colour)")
+    rgb_order = [2, 1, 0, 3][:bands]  # OpenCV reads BGR(A)
+    return _scale_to_uint8(data[..., rgb_order], 65535)
+
+
+def _to_rgb(image: Image.Image, rawmode: str, notes: list[str]) -> np.ndarray:
+    """Convert an upright image of any mode to an RGB array, appending to ``notes`` what changed."""
+    mode = image.mode
+    if mode in ("I", "F") or mode.startswith("I;16"):
+        image = Image.fromarray(_deep_gray_to_uint8(image, rawmode, notes))
+    elif mode not in _PLAIN_MODES:
+        notes.append(f"converted from {mode} to RGB")
+    if image.mode in _GRAY_MODES:
+        notes.append("grayscale expanded to RGB")
+    if image.mode in ("RGBA", "RGBa", "LA", "La", "PA") or "transparency" in image.info:
+        rgba = image.convert("RGBA")
+        if rgba.getextrema()[3][0] < 255:
+            notes.append("transparent areas composited over white")
+        image = Image.alpha_composite(Image.new("RGBA", rgba.size, "white"), rgba)
+    return np.array(image.convert("RGB"))
+
+
+def _deep_gray_to_uint8(image: Image.Image, rawmode: str, notes: list[str]) -> np.ndarray:
+    """Scale 16-bit, 32-bit integer or floating-point grayscale to uint8 by its full range.
+
+    Integers use the full range of their bit depth (65535 or 2**31 - 1; negatives
+    become black). Floats are taken as 0..1 if none exceeds 1, else as 0..255.
+    """
+    values = np.asarray(image, dtype=np.float64)
+    if image.mode == "F":
+        values = np.nan_to_num(values)
+        full_scale = 1.0 if values.max() <= 1.0 else 255.0
+        notes.append(f"floating-point grayscale (0..{full_scale:g}) scaled to 8 bits")
+    elif "16" in image.mode + rawmode:
+        full_scale = 65535
+        notes.append("16-bit grayscale scaled to 8 bits")
+    else:
+        full_scale = 2**31 - 1
+        notes.append("32-bit grayscale scaled to 8 bits")
+    return _scale_to_uint8(values, full_scale)
+
+
+def _scale_to_uint8(values: np.ndarray, full_scale: float) -> np.ndarray:
+    """Map 0..full_scale linearly to 0..255, rounding and clipping."""
+    return np.clip(np.rint(values * (255.0 / full_scale)), 0, 255).astype(np.uint8)
+
+
+def _same_file(path: PathLike, other: PathLike) -> bool:
+    """Whether two paths name one file (symlinks and hard links included)."""
+    try:
+        return os.path.samefile(path, other)
+    except OSError:  # one of them does not exist yet
+        return os.path.realpath(path) == os.path.realpath(other)
+
+
+def _new_file_mode() -> int:
+    """Permissions for a new file under the current umask (temporary files get 0o600)."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask

@@ -1,0 +1,106 @@
+"""The 68-point landmark layout (iBUG 300-W, as fitted by dlib) as data.
+
+Every index the method needs lives here: which points form each organ for local
+re-shaping (Eqs. 1-2), which points are rigid enough to align two photos of one head,
+and which points place each key muscle area of the MD model (Eqs. 9-11). A second
+landmark scheme is a second `Layout` value, not new code.
+
+Indices are 0-based. "Right" and "left" are the subject's: the subject's right eye is
+on the image's left.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class MuscleArea:
+    """A key muscle area of the MD model (paper Fig. 10 a).
+
+    The centre is the mean of ``centre`` landmarks plus ``offset`` times the
+    inter-ocular distance along the face's (right, down) axes; the radius ``r`` of
+    Eq. (11) is ``radius`` times the inter-ocular distance. ``motion`` lists the
+    landmarks whose neutral-to-expression motion sets the area's strength ``h``.
+    """
+
+    name: str
+    centre: tuple[int, ...]
+    offset: tuple[float, float]
+    radius: float
+    motion: tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Index tables of one landmark scheme."""
+
+    n_points: int
+    jaw: tuple[int, ...]
+    brows: tuple[tuple[int, ...], ...]
+    eyes: tuple[tuple[int, ...], ...]
+    nose: tuple[int, ...]
+    mouth_outer: tuple[int, ...]
+    mouth_inner: tuple[int, ...]
+    #: (upper, lower) inner-lip points that face each other across the mouth opening.
+    lip_pairs: tuple[tuple[int, int], ...]
+    #: points that barely move with expression: used to remove head motion.
+    rigid: tuple[int, ...]
+    #: the two outer eye corners: the face's horizontal axis and scale.
+    eye_corners: tuple[int, int]
+    muscle_areas: tuple[MuscleArea, ...]
+
+    @property
+    def organs(self) -> dict[str, tuple[int, ...]]:
+        """Organs re-shaped independently by local warping (Eqs. 1-2).
+
+        The outer and inner lips form one organ so the inner lips stay inside the
+        outer ones after re-shaping.
+        """
+        return {
+            "right_brow": self.brows[0],
+            "left_brow": self.brows[1],
+            "right_eye": self.eyes[0],
+            "left_eye": self.eyes[1],
+            "nose": self.nose,
+            "mouth": self.mouth_outer + self.mouth_inner,
+        }
+
+
+def _r(a: int, b: int) -> tuple[int, ...]:
+    return tuple(range(a, b))
+
+
+DLIB68 = Layout(
+    n_points=68,
+    jaw=_r(0, 17),
+    brows=(_r(17, 22), _r(22, 27)),
+    eyes=(_r(36, 42), _r(42, 48)),
+    nose=_r(27, 36),
+    mouth_outer=_r(48, 60),
+    mouth_inner=_r(60, 68),
+    lip_pairs=((61, 67), (62, 66), (63, 65)),
+    rigid=(0, 1, 15, 16, 27, 28, 29, 30, 36, 39, 42, 45),
+    eye_corners=(36, 45),
+    muscle_areas=(
+        # frontalis: above the middle of each brow
+        MuscleArea("forehead_right", (19,), (0.0, -0.35), 0.30, (18, 19, 20)),
+        MuscleArea("forehead_left", (24,), (0.0, -0.35), 0.30, (23, 24, 25)),
+        # corrugator / procerus: between the brows
+        MuscleArea("brow_centre", (21, 22), (0.0, -0.05), 0.22, (20, 21, 22, 23)),
+        # orbicularis oculi: crow's feet beside the outer eye corners
+        MuscleArea("eye_corner_right", (36,), (-0.18, 0.02), 0.16, (36, 37, 41)),
+        MuscleArea("eye_corner_left", (45,), (0.18, 0.02), 0.16, (45, 44, 46)),
+        # zygomaticus over the cheekbones
+        MuscleArea("cheek_right", (1, 31, 41), (0.0, 0.0), 0.25, (48, 49, 31)),
+        MuscleArea("cheek_left", (15, 35, 46), (0.0, 0.0), 0.25, (54, 53, 35)),
+        # levator labii: the nasolabial folds between nose wing and mouth corner
+        MuscleArea("nasolabial_right", (31, 48), (-0.06, 0.0), 0.20, (48, 49, 31)),
+        MuscleArea("nasolabial_left", (35, 54), (0.06, 0.0), 0.20, (54, 53, 35)),
+        # risorius / buccinator: the mouth corners
+        MuscleArea("mouth_corner_right", (48,), (-0.06, 0.0), 0.15, (48, 59, 49)),
+        MuscleArea("mouth_corner_left", (54,), (0.06, 0.0), 0.15, (54, 55, 53)),
+        # mentalis: the chin
+        MuscleArea("chin", (8, 57), (0.0, 0.0), 0.22, (7, 8, 9, 57)),
+    ),
+)

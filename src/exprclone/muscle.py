@@ -1,0 +1,76 @@
+"""The muscle-distribution (MD) model, Eqs. (9)-(11): where details matter.
+
+Key muscle areas (``Layout.muscle_areas``: forehead, brow centre, eye corners, cheeks,
+nasolabial folds, mouth corners, chin) are placed from the landmarks of the target's
+final geometry. Each contributes a Gaussian bump to the detail-importance mask
+
+``M(u, v) = 1 + h exp(-((u - u0)^2 + (v - v0)^2) / (2 sigma^2))``  (Eq. 10)
+
+with ``sigma = r / sqrt(ln 2)`` (Eq. 11), so the bump falls to ``h / sqrt(2)`` at the
+area's radius ``r`` and to ``h / 2`` at ``r sqrt(2)``. Where areas
+overlap the strongest bump counts (a maximum, not a sum, so overlapping areas do not
+stack into over-strong details).
+
+Adaptive strength ``h`` (the paper leaves the rule open): an area's details are
+strengthened in proportion to how much its muscle works in the source's expression,
+measured by the motion of the area's landmarks between the source's neutral and
+expression photos (head motion removed): ``h = H_MAX * min(1, motion / (MOTION_REF *
+iod))``. A muscle that does not move gets ``h = 0`` and its area is left as the ERI gives it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import geometry
+from .layout import Layout
+
+#: the largest strength h: details at an area's centre at most doubled.
+H_MAX = 1.0
+#: landmark motion, in inter-ocular distances, at which an area reaches H_MAX.
+MOTION_REF = 0.04
+
+
+def areas(landmarks: np.ndarray, layout: Layout) -> tuple[np.ndarray, np.ndarray]:
+    """Centres ``(u0, v0)`` and radii ``r`` of the key muscle areas (Fig. 10 a).
+
+    Returns
+    -------
+    centres : ndarray of shape (A, 2)
+    radii : ndarray of shape (A,)
+    """
+    iod = geometry.interocular(landmarks, layout)
+    axes = geometry.face_axes(landmarks, layout)
+    centres = np.array([landmarks[list(a.centre)].mean(0) + iod * np.asarray(a.offset) @ axes for a in layout.muscle_areas])
+    radii = np.array([a.radius * iod for a in layout.muscle_areas])
+    return centres, radii
+
+
+def strengths(source_neutral: np.ndarray, source_expression: np.ndarray, layout: Layout) -> np.ndarray:
+    """Adaptive strength ``h`` of each area (rule in the module docstring), ``(A,)``.
+
+    ``source_expression`` must already be in the neutral photo's frame
+    (:func:`exprclone.global_warp.remove_head_motion`).
+    """
+    iod = geometry.interocular(source_neutral, layout)
+    motion = np.linalg.norm(source_expression - source_neutral, axis=1)
+    m = np.array([motion[list(a.motion)].mean() for a in layout.muscle_areas])
+    return H_MAX * np.minimum(1.0, m / (MOTION_REF * iod))
+
+
+def importance_mask(shape: tuple[int, int], centres: np.ndarray, radii: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """The detail-importance mask ``M`` of Eq. (10) with ``sigma`` of Eq. (11), ``(H, W)`` float32."""
+    rows, cols = shape
+    v, u = np.ogrid[0:rows, 0:cols]
+    bump = np.zeros(shape, np.float32)
+    for (u0, v0), r, strength in zip(centres, radii, h):
+        sigma = r / np.sqrt(np.log(2.0))  # Eq. (11)
+        reach = 4 * sigma
+        top, bottom = int(max(0, v0 - reach)), int(min(rows, v0 + reach + 1))
+        left, right = int(max(0, u0 - reach)), int(min(cols, u0 + reach + 1))
+        if top >= bottom or left >= right:
+            continue
+        d2 = (u[:, left:right] - u0) ** 2 + (v[top:bottom] - v0) ** 2
+        g = (strength * np.exp(-d2 / (2 * sigma**2))).astype(np.float32)
+        np.maximum(bump[top:bottom, left:right], g, out=bump[top:bottom, left:right])
+    return 1.0 + bump

@@ -1,0 +1,237 @@
+"""Piecewise-affine image warping over a Delaunay mesh of the landmarks.
+
+The paper warps the target photo "based on the triangulated mesh information"
+(Sec. II, Fig. 2 b, after Wolberg and Liu et al.). Our mesh is the Delaunay
+triangulation of the target's neutral landmarks plus two kinds of extra control points:
+
+* forehead points above the brows, which move with the brows, so the forehead is
+  carried along instead of being squeezed between the brows and the hair line;
+* fixed points on the image border, so the whole image moves smoothly and the
+  background stays put.
+
+The warp is vectorised: each output pixel gets the index of its triangle from a label
+image, then the inverse affine map of that triangle; one ``cv2.remap`` samples the
+source. Triangles that would fold over are relaxed first (:func:`unfold`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+from scipy.spatial import Delaunay
+
+from . import geometry
+from .layout import Layout
+
+#: forehead points sit this many inter-ocular distances above each brow point.
+FOREHEAD_HEIGHT = 0.45
+#: border control points per image side (corners included).
+BORDER_POINTS = 5
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """Triangulated control points of one reference face (the target's neutral photo).
+
+    Attributes
+    ----------
+    points : ndarray of shape (N, 2)
+        Landmarks first, then forehead points, then border points.
+    triangles : ndarray of shape (T, 3)
+        Vertex indices into ``points``.
+    n_landmarks : int
+    brow_of_forehead : ndarray of shape (F,)
+        For each forehead point, the brow landmark that carries it.
+    """
+
+    points: np.ndarray
+    triangles: np.ndarray
+    n_landmarks: int
+    brow_of_forehead: np.ndarray
+
+    @property
+    def n_moving(self) -> int:
+        """Landmarks and forehead points: the vertices that may move."""
+        return self.n_landmarks + len(self.brow_of_forehead)
+
+    def control_points(self, landmarks: np.ndarray, transform: np.ndarray | None = None) -> np.ndarray:
+        """Control points for a new position of the landmarks.
+
+        Parameters
+        ----------
+        landmarks : ndarray of shape (n_landmarks, 2)
+            The landmarks, in the image where the mesh is placed.
+        transform : ndarray of shape (2, 3), optional
+            Similarity from the reference image into that image (for another person's
+            photo); identity by default. Border points follow it; forehead points follow
+            it plus the displacement of their brow point.
+
+        Returns
+        -------
+        ndarray of shape (N, 2)
+        """
+        t = np.eye(2, 3) if transform is None else transform
+        mapped = geometry.apply(t, self.points)
+        out = mapped.copy()
+        out[: self.n_landmarks] = landmarks
+        brows = self.brow_of_forehead
+        out[self.n_landmarks : self.n_moving] += landmarks[brows] - mapped[brows]
+        return out
+
+    def neighbours(self) -> list[np.ndarray]:
+        """For each landmark, the landmarks it shares a triangle edge with."""
+        n = self.n_landmarks
+        tri = self.triangles
+        edges = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
+        edges = edges[(edges < n).all(axis=1)]
+        edges = np.unique(np.sort(edges, axis=1), axis=0)
+        return [np.unique(np.concatenate([edges[edges[:, 0] == i, 1], edges[edges[:, 1] == i, 0]])) for i in range(n)]
+
+
+def build_mesh(landmarks: np.ndarray, image_shape: tuple[int, ...], layout: Layout) -> Mesh:
+    """Triangulate the landmarks of the reference face with forehead and border points.
+
+    Parameters
+    ----------
+    landmarks : ndarray of shape (n_points, 2)
+    image_shape : tuple
+        ``(H, W, ...)`` of the reference image.
+    layout : Layout
+    """
+    h, w = image_shape[:2]
+    brows = np.array(layout.brows[0] + layout.brows[1])
+    up = -geometry.face_axes(landmarks, layout)[1]
+    forehead = landmarks[brows] + FOREHEAD_HEIGHT * geometry.interocular(landmarks, layout) * up
+    forehead[:, 0] = np.clip(forehead[:, 0], 1.0, w - 2.0)
+    forehead[:, 1] = np.clip(forehead[:, 1], 1.0, h - 2.0)
+    xs = np.linspace(-0.5, w - 0.5, BORDER_POINTS)
+    ys = np.linspace(-0.5, h - 0.5, BORDER_POINTS)[1:-1]
+    border = np.concatenate(
+        [
+            np.stack([xs, np.full_like(xs, -0.5)], 1),
+            np.stack([xs, np.full_like(xs, h - 0.5)], 1),
+            np.stack([np.full_like(ys, -0.5), ys], 1),
+            np.stack([np.full_like(ys, w - 0.5), ys], 1),
+        ]
+    )
+    points = np.concatenate([landmarks, forehead, border]).astype(float)
+    # QJ joggles the input so that coincident points (a closed mouth's inner lips)
+    # still become vertices of the triangulation.
+    triangles = Delaunay(points, qhull_options="QJ").simplices.astype(np.int32)
+    # the joggle leaves slivers of zero area along the straight border: drop them
+    on_border = (triangles >= len(landmarks) + len(forehead)).all(axis=1)
+    area = np.abs(signed_areas(points, triangles))
+    triangles = triangles[~on_border | (area > 1e-6 * area.max())]
+    return Mesh(points, triangles, len(landmarks), brows)
+
+
+def signed_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Twice the signed area of each triangle (positive when counter-clockwise in x-right, y-up)."""
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+
+def folded(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Mask of triangles whose orientation flips from ``src`` to ``dst``.
+
+    Triangles of (almost) no area in ``src``, such as those between the touching lips of
+    a closed mouth, have no orientation to lose: they are slits that may open.
+    """
+    a0, a1 = signed_areas(src, triangles), signed_areas(dst, triangles)
+    return (a0 * a1 < 0) & (np.abs(a0) > 1e-3 * np.abs(a0).max())
+
+
+def unfold(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, n_moving: int, max_iter: int = 100) -> tuple[np.ndarray, int]:
+    """Relax moving vertices of folded triangles until no triangle folds over.
+
+    Each pass moves every movable vertex of a folded triangle half-way towards the
+    mean of its mesh neighbours (a Laplacian step), which restores the orientation of
+    the small triangles that fold first.
+
+    Returns
+    -------
+    dst : ndarray of shape (N, 2)
+        Corrected copy of ``dst``.
+    n_fixed : int
+        Number of vertices that were moved.
+    """
+    dst = dst.copy()
+    moved = np.zeros(len(dst), bool)
+    for _ in range(max_iter):
+        bad = folded(src, dst, triangles)
+        if not bad.any():
+            break
+        verts = np.unique(triangles[bad])
+        verts = verts[verts < n_moving]
+        if len(verts) == 0:
+            break
+        for v in verts:
+            ring = np.unique(triangles[(triangles == v).any(axis=1)])
+            ring = ring[ring != v]
+            dst[v] = 0.5 * dst[v] + 0.5 * dst[ring].mean(axis=0)
+        moved[verts] = True
+    return dst, int(moved.sum())
+
+
+def inverse_maps(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Per-pixel maps ``(map_x, map_y)`` for ``cv2.remap``: output pixel -> source position.
+
+    Parameters
+    ----------
+    src, dst : ndarray of shape (N, 2)
+        Control points in the source image and in the output image.
+    triangles : ndarray of shape (T, 3)
+    out_shape : (H, W)
+
+    Returns
+    -------
+    map_x, map_y : ndarray of shape (H, W), float32
+        Pixels outside every triangle map outside the source (border handling of remap).
+    """
+    h, w = out_shape
+    # Affine dst -> src per triangle: [x y 1] @ coeffs = [u v].
+    d = np.concatenate([dst[triangles], np.ones((len(triangles), 3, 1))], axis=2)
+    coeffs = np.linalg.pinv(d) @ src[triangles]  # (T, 3, 2)
+    coeffs = np.concatenate([np.full((1, 3, 2), -1e6), coeffs]).astype(np.float32)  # label 0: outside
+    labels = np.zeros((h, w), np.int32)
+    shift = 4
+    fixed = np.round(dst[triangles] * (1 << shift)).astype(np.int32)
+    for k, tri in enumerate(fixed):
+        cv2.fillConvexPoly(labels, tri, k + 1, lineType=cv2.LINE_8, shift=shift)
+    c = coeffs[labels]  # (H, W, 3, 2)
+    ys, xs = np.mgrid[0:h, 0:w].astype(np.float32)
+    map_x = c[..., 0, 0] * xs + c[..., 1, 0] * ys + c[..., 2, 0]
+    map_y = c[..., 0, 1] * xs + c[..., 1, 1] * ys + c[..., 2, 1]
+    return map_x, map_y
+
+
+def warp(image: np.ndarray, src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_shape: tuple[int, int] | None = None) -> np.ndarray:
+    """Warp ``image`` so that control points ``src`` move to ``dst``.
+
+    Parameters
+    ----------
+    image : ndarray of shape (H, W, C) or (H, W)
+    src, dst : ndarray of shape (N, 2)
+        Control points in ``image`` and in the output.
+    triangles : ndarray of shape (T, 3)
+    out_shape : (H, W), optional
+        Output size; the input's by default.
+
+    Returns
+    -------
+    ndarray
+        Same dtype and channels as ``image``.
+
+    Examples
+    --------
+    >>> img = np.arange(64 * 64 * 3, dtype=np.uint8).reshape(64, 64, 3)
+    >>> pts = np.array([[-0.5, -0.5], [63.5, -0.5], [-0.5, 63.5], [63.5, 63.5], [30, 30]])
+    >>> tri = Delaunay(pts).simplices
+    >>> bool((warp(img, pts, pts, tri) == img).all())
+    True
+    """
+    out_shape = image.shape[:2] if out_shape is None else out_shape
+    map_x, map_y = inverse_maps(np.asarray(src, float), np.asarray(dst, float), triangles, out_shape)
+    return cv2.remap(image, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)

@@ -1,0 +1,53 @@
+"""Shared fixtures: the real sample photos of ../shared/data and their landmarks.
+
+The data folder is taken from EXPRCLONE_DATA, else ../shared/data beside the checkout.
+"""
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from exprclone.clone import default_detector
+from exprclone.images import load_image
+
+DATA = Path(os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
+LONDON = DATA / "london"
+
+
+def neutral_path(face_id: str) -> Path:
+    return LONDON / "neutral_front" / f"{face_id}_03.jpg"
+
+
+def smile_path(face_id: str) -> Path:
+    return LONDON / "smiling_front" / f"{face_id}_08.jpg"
+
+
+@pytest.fixture(scope="session")
+def london() -> Path:
+    if not LONDON.is_dir():
+        pytest.fail(f"sample data not found at {LONDON}: set EXPRCLONE_DATA to the shared data folder")
+    return LONDON
+
+
+@pytest.fixture(scope="session")
+def photo(london):
+    """Load a photo and its detected landmarks once per session: photo(face_id, 'neutral'|'smile')."""
+    cache: dict = {}
+
+    def get(face_id: str, kind: str = "neutral") -> tuple[np.ndarray, np.ndarray]:
+        if (face_id, kind) not in cache:
+            path = neutral_path(face_id) if kind == "neutral" else smile_path(face_id)
+            image = load_image(path)
+            cache[face_id, kind] = (image, default_detector().detect(image, str(path)))
+        return cache[face_id, kind]
+
+    return get
+
+
+@pytest.fixture(scope="session")
+def pair(photo):
+    """A real cross-person triple: source 001 (neutral, smile) onto target 003."""
+    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("001"), photo("001", "smile"), photo("003")
+    return (sn, se, tn), (sn_lm, se_lm, tn_lm)

@@ -1,0 +1,73 @@
+"""The command: a real run, and every bad input ending in one line, exit 2, no output."""
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from conftest import neutral_path, smile_path
+
+SN, SE, TN = str(neutral_path("001")), str(smile_path("001")), str(neutral_path("003"))
+
+
+def run(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "exprclone", *map(str, args)], capture_output=True, text=True, cwd=cwd)
+
+
+def test_clone_writes_image_and_json(london, tmp_path):
+    out, record = tmp_path / "out.png", tmp_path / "out.json"
+    p = run("clone", SN, SE, TN, "-o", out, "--save-json", record)
+    assert p.returncode == 0, p.stderr
+    assert Image.open(out).size == Image.open(TN).size
+    data = json.loads(record.read_text())
+    assert data["method"] == "e+md" and len(data["landmarks"]["final"]) == 68
+    assert len(data["db_curve"]) > 5 and data["lambda_k"] in [c["lambda_k"] for c in data["db_curve"]]
+    assert sorted(os.listdir(tmp_path)) == ["out.json", "out.png"]  # no temporary files left
+
+
+def expect_error(tmp_path, args, needle):
+    """Exit 2, one line on stderr naming ``needle``, no traceback and no output file."""
+    out = tmp_path / "result.png"
+    p = run("clone", *args, "-o", out) if "-o" not in args else run("clone", *args)
+    assert p.returncode == 2, p.stderr
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("exprclone: error: ") and str(needle) in lines[0], p.stderr
+    assert "Traceback" not in p.stderr
+    assert not out.exists()
+    assert not [f for f in os.listdir(tmp_path) if f.startswith(".result")]
+
+
+def test_missing_file(london, tmp_path):
+    expect_error(tmp_path, [SN, tmp_path / "nope.jpg", TN], tmp_path / "nope.jpg")
+
+
+def test_not_an_image(london, tmp_path):
+    fake = tmp_path / "fake.jpg"
+    fake.write_text("hello")
+    expect_error(tmp_path, [SN, SE, fake], fake)
+
+
+def test_no_face(london, tmp_path):
+    blank = tmp_path / "wall.png"
+    Image.fromarray(np.full((300, 400, 3), 200, np.uint8)).save(blank)
+    expect_error(tmp_path, [blank, SE, TN], f"{blank}: no face found")
+
+
+def test_output_is_an_input(london, tmp_path):
+    copy = tmp_path / "target.jpg"
+    copy.write_bytes(open(TN, "rb").read())
+    before = copy.read_bytes()
+    p = run("clone", SN, SE, copy, "-o", copy)
+    assert p.returncode == 2 and "overwrite" in p.stderr and str(copy) in p.stderr
+    assert copy.read_bytes() == before
+
+
+@pytest.mark.parametrize("args,needle", [(["--method", "magic"], "invalid choice"), (["--lambda", "-1"], "--lambda")])
+def test_bad_options(london, tmp_path, args, needle):
+    p = run("clone", SN, SE, TN, "-o", tmp_path / "r.png", *args)
+    assert p.returncode == 2 and needle in p.stderr
+    assert not (tmp_path / "r.png").exists()

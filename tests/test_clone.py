@@ -1,0 +1,89 @@
+"""Integration: every method on real photos, and a real cross-person smile."""
+
+import numpy as np
+import pytest
+
+import exprclone
+from exprclone import geometry
+from exprclone.clone import default_detector
+from exprclone.layout import DLIB68
+
+MOUTH = list(DLIB68.mouth_outer)
+
+
+def mouth_shape_distance(a, b):
+    """Procrustes distance of two mouths: similarity-aligned, in units of the mouth's size."""
+    t = geometry.fit_similarity(a[MOUTH], b[MOUTH])
+    aligned = geometry.apply(t, a[MOUTH])
+    return np.linalg.norm(aligned - b[MOUTH]) / np.linalg.norm(b[MOUTH] - b[MOUTH].mean(0))
+
+
+@pytest.fixture(scope="module")
+def results(pair):
+    images, landmarks = pair
+    return {m: exprclone.clone(*images, method=m, landmarks=landmarks) for m in exprclone.METHODS}
+
+
+def test_every_method_gives_an_image_of_the_target_size(pair, results):
+    (_, _, target), _ = pair
+    for method, r in results.items():
+        assert r.image.shape == target.shape and r.image.dtype == np.uint8, method
+        assert r.method == method and r.unfolded_points == 0
+        assert not np.array_equal(r.image, target), method
+
+
+def test_intermediates_are_reported(results):
+    r = results["e+md"]
+    assert {"source_neutral", "source_expression", "target_neutral", "global", "local", "elastic", "final"} <= set(r.landmarks)
+    assert r.lambda_k in r.db_curve.lambdas and r.lambda_k == r.db_curve.best
+    assert r.eri.shape == r.muscle_mask.shape == r.image.shape[:2]
+    assert r.muscle_mask.min() >= 1.0
+    assert results["global"].lambda_k is None and results["global"].eri is None
+    assert results["global+eri"].eri is not None and results["global+eri"].muscle_mask is None
+
+
+def test_methods_differ_where_the_paper_says(results):
+    # local and global share nothing but the jaw; +eri only changes shading, not geometry
+    assert not np.allclose(results["local"].landmarks["final"], results["global"].landmarks["final"])
+    assert np.array_equal(results["global+eri"].landmarks["final"], results["global"].landmarks["final"])
+    # MD strengthens details only where the mask exceeds 1
+    emd, eri = results["e+md"], results["elastic+eri"]
+    diff = np.abs(emd.image.astype(int) - eri.image).max(axis=2)
+    assert diff[emd.muscle_mask == 1.0].max() <= 1 and diff.max() > 5
+
+
+def test_fixed_lambda(pair):
+    images, landmarks = pair
+    r = exprclone.clone(*images, method="elastic", landmarks=landmarks, lambda_k=2.0)
+    assert r.lambda_k == 2.0 and r.db_curve is None
+
+
+def test_no_expression_leaves_the_target_as_it_was(pair):
+    (sn, _, target), (sn_lm, _, tn_lm) = pair
+    r = exprclone.clone(sn, sn, target, method="global+eri", landmarks=(sn_lm, sn_lm, tn_lm))
+    assert np.abs(r.image.astype(int) - target).max() <= 2
+    # local re-shaping still imposes the source's neutral organ shapes: that is the method
+    r = exprclone.clone(sn, sn, target, method="local", landmarks=(sn_lm, sn_lm, tn_lm))
+    assert not np.allclose(r.landmarks["final"], tn_lm)
+
+
+def test_clone_moves_the_target_mouth_towards_the_source_smile(pair, results):
+    _, (_, source_smile, target_neutral) = pair
+    before = mouth_shape_distance(target_neutral, source_smile)
+    for method in ("global", "elastic", "e+md"):
+        detected = default_detector().detect(results[method].image)
+        after = mouth_shape_distance(detected, source_smile)
+        assert after < 0.85 * before, (method, before, after)
+
+
+def test_bad_arguments_raise_the_project_error(pair):
+    images, landmarks = pair
+    with pytest.raises(exprclone.ExprCloneError, match="unknown method"):
+        exprclone.clone(*images, method="warp", landmarks=landmarks)
+    with pytest.raises(exprclone.ExprCloneError, match="lambda_k"):
+        exprclone.clone(*images, lambda_k=-1, landmarks=landmarks)
+    bad = (landmarks[0], landmarks[1][:60], landmarks[2])
+    with pytest.raises(exprclone.ExprCloneError, match="68 landmarks"):
+        exprclone.clone(*images, landmarks=bad)
+    with pytest.raises(exprclone.ExprCloneError, match="target_neutral: no face"):
+        exprclone.clone(images[0], images[1], np.full((400, 400, 3), 128, np.uint8), landmarks=landmarks[:2] + (None,))

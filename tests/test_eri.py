@@ -1,0 +1,43 @@
+import numpy as np
+
+from exprclone import eri, geometry, warp
+from exprclone.layout import DLIB68
+
+
+def test_same_photo_twice_gives_ratio_one(pair):
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    mask = eri.ratio_mask(target.shape[:2], lm, mesh.points[mesh.n_landmarks : mesh.n_moving], DLIB68)
+    ratio = eri.expression_ratio(target, target, mask, geometry.interocular(lm, DLIB68))
+    assert np.allclose(ratio, 1.0)
+    assert np.array_equal(eri.apply_details(target, ratio), target)
+
+
+def test_mask_is_one_on_the_cheeks_and_zero_off_the_face_and_in_the_eyes(pair):
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    mask = eri.ratio_mask(target.shape[:2], lm, mesh.points[mesh.n_landmarks : mesh.n_moving], DLIB68)
+    cheek = ((lm[2] + lm[31]) / 2).round().astype(int)
+    eye = lm[36:42].mean(0).round().astype(int)
+    assert mask[cheek[1], cheek[0]] > 0.99
+    assert mask[eye[1], eye[0]] < 0.3
+    assert mask[5, 5] == 0 and mask[-5, -5] == 0
+    assert 0 <= mask.min() and mask.max() <= 1
+
+
+def test_dark_pixels_give_finite_clamped_ratios():
+    black = np.zeros((64, 64, 3), np.uint8)
+    white = np.full((64, 64, 3), 255, np.uint8)
+    mask = np.ones((64, 64), np.float32)
+    for a, b in ((black, white), (white, black), (black, black)):
+        r = eri.expression_ratio(a, b, mask, 100.0)
+        assert np.isfinite(r).all() and r.min() >= eri.CLAMP[0] and r.max() <= eri.CLAMP[1]
+
+
+def test_darker_expression_darkens_the_target(pair):
+    (_, _, target), _ = pair
+    darker = (target * 0.8).astype(np.uint8)
+    ratio = eri.expression_ratio(target, darker, np.ones(target.shape[:2], np.float32), 300.0)
+    out = eri.apply_details(target, ratio)
+    face = slice(500, 900)
+    assert np.abs(out[face, face].astype(float).mean() / target[face, face].mean() - 0.8) < 0.03

@@ -1,0 +1,67 @@
+import cv2
+import numpy as np
+
+from exprclone import warp
+from exprclone.layout import DLIB68
+
+
+def test_identity_when_landmarks_do_not_move(pair):
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    out = warp.warp(target, mesh.points, mesh.control_points(lm), mesh.triangles)
+    assert out.shape == target.shape and out.dtype == target.dtype
+    assert np.abs(out.astype(int) - target).max() <= 1
+
+
+def test_mesh_covers_the_whole_image_without_folds(pair):
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    map_x, _ = warp.inverse_maps(mesh.points, mesh.points, mesh.triangles, target.shape[:2])
+    assert (map_x > -1).all()  # no pixel is left outside every triangle
+    assert not warp.folded(mesh.points, mesh.points, mesh.triangles).any()
+    assert set(range(mesh.n_moving)) <= set(np.unique(mesh.triangles))  # every landmark is a vertex
+
+
+def test_landmarks_land_where_asked(pair):
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    image = np.zeros(target.shape[:2], np.uint8)
+    for x, y in lm.round().astype(int):
+        image[y, x] = 255  # a one-pixel dot on every landmark
+    moved = lm + 8 * np.stack([np.sin(lm[:, 1] / 90), np.cos(lm[:, 0] / 70)], 1)  # smooth: folds nothing
+    dst, n_fixed = warp.unfold(mesh.points, mesh.control_points(moved), mesh.triangles, mesh.n_moving)
+    assert n_fixed == 0
+    out = warp.warp(image, mesh.points, dst, mesh.triangles)
+    expected = moved + (lm.round() - lm)  # each dot keeps its sub-pixel offset
+    separate = [i for i in range(68) if np.sort(np.linalg.norm(lm - lm[i], axis=1))[1] > 12]
+    assert len(separate) > 40
+    for x, y in expected[separate]:
+        xs, ys = int(round(x)), int(round(y))
+        window = out[ys - 3 : ys + 4, xs - 3 : xs + 4]
+        assert window.max() > 40
+        wy, wx = np.unravel_index(window.argmax(), window.shape)
+        assert np.hypot(xs - 3 + wx - x, ys - 3 + wy - y) <= 1.0
+
+
+def test_forehead_moves_with_the_brows_and_border_stays(pair):
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    raised = lm.copy()
+    brows = list(DLIB68.brows[0] + DLIB68.brows[1])
+    raised[brows, 1] -= 10
+    ctrl = mesh.control_points(raised)
+    forehead = slice(mesh.n_landmarks, mesh.n_moving)
+    assert np.allclose(ctrl[forehead] - mesh.points[forehead], (0, -10))
+    assert np.array_equal(ctrl[mesh.n_moving :], mesh.points[mesh.n_moving :])
+
+
+def test_unfold_removes_a_fold(pair):
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    bad = lm.copy()
+    bad[30] = lm[8] + (0, 15)  # nose tip dragged below the chin: many triangles flip
+    dst = mesh.control_points(bad)
+    assert warp.folded(mesh.points, dst, mesh.triangles).any()
+    fixed, n = warp.unfold(mesh.points, dst, mesh.triangles, mesh.n_moving)
+    assert n > 0 and not warp.folded(mesh.points, fixed, mesh.triangles).any()
+    assert np.array_equal(fixed[mesh.n_moving :], dst[mesh.n_moving :])  # the border never moves

@@ -1,0 +1,26 @@
+"""Train the eigenface basis shipped in src/exprclone/data/eigenfaces.npz.
+
+    python tools/train_eigenfaces.py [--data ../shared/data]
+
+Uses the 144 photos (72 neutral, 72 smiling) of the Face Research Lab London Set
+(DeBruine and Jones 2017, CC BY 4.0); each person's mean crop is removed before the
+PCA, so the basis spans expression (here: smiling) rather than identity.
+"""
+
+import argparse
+import os
+from pathlib import Path
+
+from exprclone.eigenface import train
+from exprclone.landmarks import Detector
+from exprclone.layout import DLIB68
+
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+parser.add_argument("-o", "--output", default=str(Path(__file__).parents[1] / "src/exprclone/data/eigenfaces.npz"))
+args = parser.parse_args()
+london = Path(args.data) / "london"
+paths = sorted(london.glob("neutral_front/*.jpg")) + sorted(london.glob("smiling_front/*.jpg"))
+basis = train([str(p) for p in paths], Detector(), DLIB68, people=[p.name[:3] for p in paths])
+basis.save(args.output)
+print(f"{args.output}: {basis.components.shape[0]} components from {len(paths)} photos")
