@@ -21,7 +21,7 @@ def mouth_shape_distance(a, b):
 @pytest.fixture(scope="module")
 def results(pair):
     images, landmarks = pair
-    return {m: exprclone.clone(*images, method=m, landmarks=landmarks) for m in exprclone.METHODS}
+    return exprclone.clone_methods(*images, landmarks=landmarks)
 
 
 def test_every_method_gives_an_image_of_the_target_size(pair, results):
@@ -87,3 +87,11 @@ def test_bad_arguments_raise_the_project_error(pair):
         exprclone.clone(*images, landmarks=bad)
     with pytest.raises(exprclone.ExprCloneError, match="target_neutral: no face"):
         exprclone.clone(images[0], images[1], np.full((400, 400, 3), 128, np.uint8), landmarks=landmarks[:2] + (None,))
+
+
+def test_methods_together_equal_methods_alone(pair, results):
+    images, landmarks = pair
+    for method in ("local", "e+md"):
+        alone = exprclone.clone(*images, method=method, landmarks=landmarks)
+        assert np.array_equal(alone.image, results[method].image), method
+        assert alone.lambda_k == results[method].lambda_k

@@ -1,4 +1,5 @@
 import numpy as np
+import pytest
 
 from exprclone import eri, geometry, warp
 from exprclone.layout import DLIB68
@@ -34,10 +35,22 @@ def test_dark_pixels_give_finite_clamped_ratios():
         assert np.isfinite(r).all() and r.min() >= eri.CLAMP[0] and r.max() <= eri.CLAMP[1]
 
 
-def test_darker_expression_darkens_the_target(pair):
-    (_, _, target), _ = pair
+def test_darker_expression_darkens_the_target_skin(pair):
+    (_, _, target), (_, _, lm) = pair
     darker = (target * 0.8).astype(np.uint8)
-    ratio = eri.expression_ratio(target, darker, np.ones(target.shape[:2], np.float32), 300.0)
+    ratio = eri.expression_ratio(target, darker, np.ones(target.shape[:2], np.float32), geometry.interocular(lm, DLIB68))
     out = eri.apply_details(target, ratio)
-    face = slice(500, 900)
-    assert np.abs(out[face, face].astype(float).mean() / target[face, face].mean() - 0.8) < 0.03
+    x, y = ((lm[2] + lm[31]) / 2).round().astype(int)  # a patch of cheek
+    patch = (slice(y - 20, y + 20), slice(x - 20, x + 20))
+    assert out[patch].astype(float).mean() / target[patch].mean() == pytest.approx(0.8, abs=0.02)
+
+
+def test_texture_confidence_trusts_skin_not_hair(pair):
+    (_, _, target), (_, _, lm) = pair
+    iod = geometry.interocular(lm, DLIB68)
+    conf = eri.texture_confidence(eri.luminance(target), iod)
+    cheek = ((lm[2] + lm[31]) / 2).round().astype(int)
+    hair = np.array([lm[19, 0], lm[19, 1] - 0.3 * iod]).round().astype(int)  # 003 wears a fringe
+    assert conf[cheek[1], cheek[0]] > 0.9
+    assert conf[hair[1], hair[0]] < 0.2
+    assert conf.min() >= 0 and conf.max() <= 1

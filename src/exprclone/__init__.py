@@ -8,8 +8,8 @@ Muscle Models" (the E+MD algorithm) and of the other methods it compares (Fig. 1
 ('global', 'local', 'elastic', 'global+eri', 'local+eri', 'elastic+eri', 'e+md')
 """
 
-from .clone import METHODS, CloneResult, clone
+from .clone import METHODS, CloneResult, clone, clone_methods
 from .errors import ExprCloneError, ExprCloneWarning
 
-__all__ = ["METHODS", "CloneResult", "ExprCloneError", "ExprCloneWarning", "clone"]
+__all__ = ["METHODS", "CloneResult", "ExprCloneError", "ExprCloneWarning", "clone", "clone_methods"]
 __version__ = "0.1.0"

@@ -92,6 +92,13 @@ def check_landmarks(points: np.ndarray, image: np.ndarray, layout: Layout, name:
     return points
 
 
+def face_box(points: np.ndarray, iod: float, shape: tuple[int, ...]) -> tuple[int, int, int, int]:
+    """``(x0, y0, x1, y1)``: the points' bounding box grown by half an inter-ocular distance, inside the image."""
+    lo = np.floor(points.min(0) - 0.5 * iod).astype(int)
+    hi = np.ceil(points.max(0) + 0.5 * iod).astype(int)
+    return max(lo[0], 0), max(lo[1], 0), min(hi[0], shape[1]), min(hi[1], shape[0])
+
+
 def clone(
     source_neutral: np.ndarray,
     source_expression: np.ndarray,
@@ -99,11 +106,7 @@ def clone(
     method: str = "e+md",
     lambda_k: float | str = "auto",
     landmarks: tuple[np.ndarray | None, np.ndarray | None, np.ndarray | None] | None = None,
-    *,
-    detector: Detector | None = None,
-    eigenfaces: Eigenfaces | None = None,
-    layout: Layout = DLIB68,
-    names: tuple[str, str, str] = ("source_neutral", "source_expression", "target_neutral"),
+    **options,
 ) -> CloneResult:
     """Put the source's expression on the target's face.
 
@@ -117,7 +120,39 @@ def clone(
         Elasticity ratio ``k_A' / k_N`` (Eq. 6); "auto" picks it by the DB metric (Eq. 8).
     landmarks : tuple of three (N, 2) arrays or None, optional
         Known landmarks for each photo; None entries are detected.
+    **options
+        ``detector``, ``eigenfaces``, ``layout``, ``names``: see :func:`clone_methods`.
+
+    Returns
+    -------
+    CloneResult
+    """
+    return clone_methods(source_neutral, source_expression, target_neutral, (method,), lambda_k, landmarks, **options)[method]
+
+
+def clone_methods(
+    source_neutral: np.ndarray,
+    source_expression: np.ndarray,
+    target_neutral: np.ndarray,
+    methods: tuple[str, ...] = METHODS,
+    lambda_k: float | str = "auto",
+    landmarks: tuple[np.ndarray | None, np.ndarray | None, np.ndarray | None] | None = None,
+    *,
+    detector: Detector | None = None,
+    eigenfaces: Eigenfaces | None = None,
+    layout: Layout = DLIB68,
+    names: tuple[str, str, str] = ("source_neutral", "source_expression", "target_neutral"),
+) -> dict[str, CloneResult]:
+    """Several methods at once, sharing the stages they have in common (Fig. 5).
+
+    Parameters
+    ----------
+    source_neutral, source_expression, target_neutral, lambda_k, landmarks
+        As for :func:`clone`.
+    methods : tuple of str
+        Any of :data:`METHODS`.
     detector : Detector, optional
+        Landmark detector for photos without given landmarks.
     eigenfaces : Eigenfaces, optional
         Basis of the DB metric; the packaged one by default.
     layout : Layout
@@ -126,10 +161,11 @@ def clone(
 
     Returns
     -------
-    CloneResult
+    dict of str to CloneResult
     """
-    if method not in METHODS:
-        raise ExprCloneError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
+    unknown = [m for m in methods if m not in METHODS]
+    if unknown:
+        raise ExprCloneError(f"unknown method {unknown[0]!r}; choose one of: {', '.join(METHODS)}")
     if lambda_k != "auto" and not (isinstance(lambda_k, (int, float)) and lambda_k >= 0):
         raise ExprCloneError(f"lambda_k must be 'auto' or a number >= 0, got {lambda_k!r}")
     images = [check_image(im, n) for im, n in zip((source_neutral, source_expression, target_neutral), names)]
@@ -145,49 +181,59 @@ def clone(
     mesh = warp.build_mesh(t_neu, tgt_img.shape, layout)
     gl = global_warp.global_landmarks(s_neu, s_exp, t_neu, layout)
     lo = local_warp.local_landmarks(gl, s_exp, layout)
-    result_pts = {"source_neutral": s_neu, "source_expression": s_exp, "target_neutral": t_neu, "global": gl, "local": lo}
-
-    geometry_kind = method.split("+")[0] if method != "e+md" else "elastic"
+    stages = {"source_neutral": s_neu, "source_expression": s_exp, "target_neutral": t_neu, "global": gl, "local": lo}
+    kinds = {m: "elastic" if m == "e+md" else m.split("+")[0] for m in methods}
     chosen, curve = None, None
-    if geometry_kind == "elastic":
+    if "elastic" in kinds.values():
         neighbours = mesh.neighbours()
         if lambda_k == "auto":
             lambdas = np.array(metric.LAMBDAS)
             candidates = [elastic.elastic_landmarks(gl, lo, neighbours, lam) for lam in lambdas]
             curve = metric.choose_lambda(tgt_img, mesh, candidates, lambdas, src_exp_img, s_exp, eigenfaces or default_eigenfaces(), layout)
             chosen = curve.best
-            el = candidates[int(np.flatnonzero(lambdas == chosen)[0])]
+            stages["elastic"] = candidates[int(np.flatnonzero(lambdas == chosen)[0])]
         else:
             chosen = float(lambda_k)
-            el = elastic.elastic_landmarks(gl, lo, neighbours, chosen)
-        result_pts["elastic"] = el
-        final = el
-    else:
-        final = gl if geometry_kind == "global" else lo
+            stages["elastic"] = elastic.elastic_landmarks(gl, lo, neighbours, chosen)
 
-    dst, n_fixed = warp.unfold(mesh.points, mesh.control_points(lips.uncross(final, layout)), mesh.triangles, mesh.n_moving)
-    result_pts["final"] = dst[: mesh.n_landmarks]
-    fi = warp.warp(tgt_img, mesh.points, dst, mesh.triangles)
-    result = CloneResult(fi, method, result_pts, chosen, curve, unfolded_points=n_fixed)
-    if not method.endswith("eri") and method != "e+md":
-        return result
+    # FI: the target photo warped to each geometry in use
+    geometry_of, fi = {}, {}
+    for kind in set(kinds.values()):
+        dst, n_fixed = warp.unfold(mesh.points, mesh.control_points(lips.uncross(stages[kind], layout)), mesh.triangles, mesh.n_moving)
+        geometry_of[kind] = (dst, n_fixed)
+        fi[kind] = warp.warp(tgt_img, mesh.points, dst, mesh.triangles)
 
     # ERI: both source photos warped to the target's final geometry (Liu et al.)
-    warped = []
-    for img, p in ((src_neu_img, s_neu), (src_exp_img, s_exp)):
-        to_source = geometry.fit_similarity(t_neu[list(layout.rigid)], p[list(layout.rigid)])
-        src_ctrl = mesh.control_points(p, to_source)
-        warped.append(warp.warp(img, src_ctrl, dst, mesh.triangles, tgt_img.shape[:2]))
-    final_lm = dst[: mesh.n_landmarks]
-    mask = eri.ratio_mask(tgt_img.shape[:2], final_lm, dst[mesh.n_landmarks : mesh.n_moving], layout)
-    ratio = eri.expression_ratio(warped[0], warped[1], mask, geometry.interocular(final_lm, layout))
-    result.eri = ratio
-    if method == "e+md":
-        centres, radii = muscle.areas(final_lm, layout)
-        h = muscle.strengths(s_neu, global_warp.remove_head_motion(s_neu, s_exp, layout), layout)
-        result.muscle_mask = muscle.importance_mask(tgt_img.shape[:2], centres, radii, h)
-        result.muscle_strengths = h
-        result.image = eri.apply_details(fi, ratio, result.muscle_mask)
-    else:
-        result.image = eri.apply_details(fi, ratio)
-    return result
+    source_ctrl = [
+        mesh.control_points(p, geometry.fit_similarity(t_neu[list(layout.rigid)], p[list(layout.rigid)]))
+        for p in (s_neu, s_exp)
+    ]
+    ratios = {}
+    for kind in {kinds[m] for m in methods if m.endswith("+eri") or m == "e+md"}:
+        dst = geometry_of[kind][0]
+        final = dst[: mesh.n_landmarks]
+        # the ratio is 1 off the face: compute it in the face's box only
+        x0, y0, x1, y1 = face_box(dst[: mesh.n_moving], geometry.interocular(final, layout), tgt_img.shape)
+        local = dst - (x0, y0)
+        neutral, expression = (warp.warp(img, c, local, mesh.triangles, (y1 - y0, x1 - x0)) for img, c in zip((src_neu_img, src_exp_img), source_ctrl))
+        mask = eri.ratio_mask((y1 - y0, x1 - x0), local[: mesh.n_landmarks], local[mesh.n_landmarks : mesh.n_moving], layout)
+        ratios[kind] = np.ones(tgt_img.shape[:2], np.float32)
+        ratios[kind][y0:y1, x0:x1] = eri.expression_ratio(neutral, expression, mask, geometry.interocular(final, layout))
+
+    results = {}
+    for m in methods:
+        kind = kinds[m]
+        dst, n_fixed = geometry_of[kind]
+        lm = dict(stages, final=dst[: mesh.n_landmarks])
+        if kind != "elastic":
+            lm.pop("elastic", None)
+        r = CloneResult(fi[kind], m, lm, chosen if kind == "elastic" else None, curve if kind == "elastic" else None, unfolded_points=n_fixed)
+        if m == "e+md":
+            centres, radii = muscle.areas(lm["final"], layout)
+            r.muscle_strengths = muscle.strengths(s_neu, global_warp.remove_head_motion(s_neu, s_exp, layout), layout)
+            r.muscle_mask = muscle.importance_mask(tgt_img.shape[:2], centres, radii, r.muscle_strengths)
+            r.eri, r.image = ratios[kind], eri.apply_details(fi[kind], ratios[kind], r.muscle_mask)
+        elif m.endswith("+eri"):
+            r.eri, r.image = ratios[kind], eri.apply_details(fi[kind], ratios[kind])
+        results[m] = r
+    return results

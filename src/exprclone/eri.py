@@ -6,6 +6,13 @@ creates (wrinkles, folds, dimples) without the source's skin or identity. It is
 low-pass filtered against noise and misregistration, clamped, and faded to 1 outside a
 feathered face mask and inside the eyes and the mouth opening, whose content (irises,
 teeth) differs between people and is not shading.
+
+One addition to Liu et al.: where the source's *neutral* photo is itself textured
+(hair over the forehead, a beard, stubble, the face's outline against the
+background), the ratio of two slightly misregistered textures is noise, not shading,
+and it is faded out (:func:`texture_confidence`). Expression folds appear only in the
+expression photo, so they are not affected. Without it a fringe of hair on the
+source's forehead prints bright stripes on the target's.
 """
 
 from __future__ import annotations
@@ -19,9 +26,11 @@ from .layout import Layout
 #: added to both luminances (in [0, 1]) so that dark pixels give no NaN or infinity.
 EPS = 0.02
 #: Gaussian filter of the ratio, sigma in inter-ocular distances.
-FILTER_SIGMA = 0.012
+FILTER_SIGMA = 0.03
 #: the ratio is clamped to this range.
-CLAMP = (0.6, 1.6)
+CLAMP = (0.7, 1.4)
+#: relative local contrast of the neutral photo at which the ratio starts to fade, and is gone.
+TEXTURE_RANGE = (0.04, 0.10)
 #: feathering of the masks, sigma in inter-ocular distances.
 FEATHER = 0.04
 
@@ -43,16 +52,38 @@ def ratio_mask(shape: tuple[int, int], landmarks: np.ndarray, forehead: np.ndarr
         Forehead control points (the face hull reaches up to them).
     layout : Layout
     """
-    iod = geometry.interocular(landmarks, layout)
-    mask = np.zeros(shape, np.float32)
-    hull = cv2.convexHull(np.concatenate([landmarks[list(layout.jaw)], forehead]).astype(np.float32))
+    # The mask is smooth at the scale of the feather, so it is drawn at a quarter of
+    # the resolution and enlarged.
+    small = (max(1, shape[0] // 4), max(1, shape[1] // 4))
+    scale = np.array([small[1] / shape[1], small[0] / shape[0]])
+    iod = geometry.interocular(landmarks, layout) * scale.mean()
+    pts, forehead = landmarks * scale, forehead * scale
+    mask = np.zeros(small, np.float32)
+    hull = cv2.convexHull(np.concatenate([pts[list(layout.jaw)], forehead]).astype(np.float32))
     cv2.fillConvexPoly(mask, np.round(hull).astype(np.int32), 1.0)
     # shrink by the feather width so the fade ends inside the face, not on the background
     k = max(1, int(round(2 * FEATHER * iod)))
     mask = cv2.erode(mask, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * k + 1, 2 * k + 1)))
     for holes in (*layout.eyes, layout.mouth_inner):
-        cv2.fillPoly(mask, [np.round(landmarks[list(holes)]).astype(np.int32)], 0.0)
-    return np.clip(cv2.GaussianBlur(mask, (0, 0), FEATHER * iod), 0.0, 1.0)
+        cv2.fillPoly(mask, [np.round(pts[list(holes)] * 16).astype(np.int32)], 0.0, shift=4)
+    mask = cv2.GaussianBlur(mask, (0, 0), FEATHER * iod)
+    return np.clip(cv2.resize(mask, (shape[1], shape[0]), interpolation=cv2.INTER_LINEAR), 0.0, 1.0)
+
+
+def texture_confidence(y_neutral: np.ndarray, iod: float) -> np.ndarray:
+    """Trust in the ratio, in [0, 1]: 1 on smooth skin, 0 where the neutral photo is textured.
+
+    The texture is the local relative contrast: the RMS of the luminance's detail above
+    ``0.01 iod`` over a window of ``0.03 iod``, divided by the local mean luminance (so
+    dark and light skin compare alike). Skin measures about 0.02-0.03; hair and beards
+    0.1 and more. It maps linearly from 1 at ``TEXTURE_RANGE[0]`` to 0 at
+    ``TEXTURE_RANGE[1]``.
+    """
+    detail = y_neutral - cv2.GaussianBlur(y_neutral, (0, 0), max(0.01 * iod, 0.5))
+    window = max(FILTER_SIGMA * iod, 0.5)
+    contrast = np.sqrt(cv2.GaussianBlur(detail * detail, (0, 0), window)) / (cv2.GaussianBlur(y_neutral, (0, 0), window) + EPS)
+    lo, hi = TEXTURE_RANGE
+    return np.clip(cv2.GaussianBlur((hi - contrast) / (hi - lo), (0, 0), window), 0.0, 1.0)
 
 
 def expression_ratio(neutral_warped: np.ndarray, expression_warped: np.ndarray, mask: np.ndarray, iod: float) -> np.ndarray:
@@ -67,10 +98,11 @@ def expression_ratio(neutral_warped: np.ndarray, expression_warped: np.ndarray, 
     iod : float
         Inter-ocular distance of the target face, for the filter size.
     """
-    ratio = (luminance(expression_warped) + EPS) / (luminance(neutral_warped) + EPS)
+    y_neutral = luminance(neutral_warped)
+    ratio = (luminance(expression_warped) + EPS) / (y_neutral + EPS)
     ratio = cv2.GaussianBlur(ratio, (0, 0), max(FILTER_SIGMA * iod, 0.5))
     ratio = np.clip(ratio, *CLAMP)
-    return 1.0 + mask * (ratio - 1.0)
+    return 1.0 + mask * texture_confidence(y_neutral, iod) * (ratio - 1.0)
 
 
 def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | float = 1.0) -> np.ndarray:
@@ -90,5 +122,7 @@ def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | f
     -------
     ndarray of shape (H, W, 3), uint8
     """
-    gain = 1.0 + importance * (eri - 1.0)
-    return np.clip(image * gain[..., None] + 0.5, 0, 255).astype(np.uint8)
+    gain = (1.0 + importance * (eri - 1.0)).astype(np.float32)
+    out = image.astype(np.float32)
+    out *= gain[..., None]
+    return np.clip(out + 0.5, 0, 255).astype(np.uint8)

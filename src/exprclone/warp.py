@@ -200,11 +200,17 @@ def inverse_maps(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_sh
     fixed = np.round(dst[triangles] * (1 << shift)).astype(np.int32)
     for k, tri in enumerate(fixed):
         cv2.fillConvexPoly(labels, tri, k + 1, lineType=cv2.LINE_8, shift=shift)
-    c = coeffs[labels]  # (H, W, 3, 2)
-    ys, xs = np.mgrid[0:h, 0:w].astype(np.float32)
-    map_x = c[..., 0, 0] * xs + c[..., 1, 0] * ys + c[..., 2, 0]
-    map_y = c[..., 0, 1] * xs + c[..., 1, 1] * ys + c[..., 2, 1]
-    return map_x, map_y
+    xs = np.arange(w, dtype=np.float32)[None, :]
+    ys = np.arange(h, dtype=np.float32)[:, None]
+    maps = []
+    for c in (0, 1):
+        ax, ay, a0 = (np.ascontiguousarray(coeffs[:, r, c]) for r in range(3))
+        m = ax[labels]
+        m *= xs
+        m += ay[labels] * ys
+        m += a0[labels]
+        maps.append(m)
+    return maps[0], maps[1]
 
 
 def warp(image: np.ndarray, src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_shape: tuple[int, int] | None = None) -> np.ndarray:
