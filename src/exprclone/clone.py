@@ -208,7 +208,7 @@ def clone_methods(
         mesh.control_points(p, geometry.fit_similarity(t_neu[list(layout.rigid)], p[list(layout.rigid)]))
         for p in (s_neu, s_exp)
     ]
-    ratios = {}
+    ratios, boxes = {}, {}
     for kind in {kinds[m] for m in methods if m.endswith("+eri") or m == "e+md"}:
         dst = geometry_of[kind][0]
         final = dst[: mesh.n_landmarks]
@@ -219,6 +219,14 @@ def clone_methods(
         mask = eri.ratio_mask((y1 - y0, x1 - x0), local[: mesh.n_landmarks], local[mesh.n_landmarks : mesh.n_moving], layout)
         ratios[kind] = np.ones(tgt_img.shape[:2], np.float32)
         ratios[kind][y0:y1, x0:x1] = eri.expression_ratio(neutral, expression, mask, geometry.interocular(final, layout))
+        boxes[kind] = (slice(y0, y1), slice(x0, x1))
+
+    def with_details(kind: str, importance: np.ndarray | float = 1.0) -> np.ndarray:
+        """Eq. (9) applied in the face box, where the ERI differs from 1."""
+        box = boxes[kind]
+        out = fi[kind].copy()
+        out[box] = eri.apply_details(fi[kind][box], ratios[kind][box], importance if np.isscalar(importance) else importance[box])
+        return out
 
     results = {}
     for m in methods:
@@ -232,8 +240,8 @@ def clone_methods(
             centres, radii = muscle.areas(lm["final"], layout)
             r.muscle_strengths = muscle.strengths(s_neu, global_warp.remove_head_motion(s_neu, s_exp, layout), layout)
             r.muscle_mask = muscle.importance_mask(tgt_img.shape[:2], centres, radii, r.muscle_strengths)
-            r.eri, r.image = ratios[kind], eri.apply_details(fi[kind], ratios[kind], r.muscle_mask)
+            r.eri, r.image = ratios[kind], with_details(kind, r.muscle_mask)
         elif m.endswith("+eri"):
-            r.eri, r.image = ratios[kind], eri.apply_details(fi[kind], ratios[kind])
+            r.eri, r.image = ratios[kind], with_details(kind)
         results[m] = r
     return results

@@ -10,8 +10,9 @@ teeth) differs between people and is not shading.
 One addition to Liu et al.: where the source's *neutral* photo is itself textured
 (hair over the forehead, a beard, stubble, the face's outline against the
 background), the ratio of two slightly misregistered textures is noise, not shading,
-and it is faded out (:func:`texture_confidence`). Expression folds appear only in the
-expression photo, so they are not affected. Without it a fringe of hair on the
+and it is faded out (:func:`texture_confidence`); the filter is a normalised
+convolution over the trusted pixels only, so nothing leaks from the excluded ones.
+Expression folds appear only in the expression photo, so they are not affected. Without it a fringe of hair on the
 source's forehead prints bright stripes on the target's.
 """
 
@@ -100,9 +101,13 @@ def expression_ratio(neutral_warped: np.ndarray, expression_warped: np.ndarray, 
     """
     y_neutral = luminance(neutral_warped)
     ratio = (luminance(expression_warped) + EPS) / (y_neutral + EPS)
-    ratio = cv2.GaussianBlur(ratio, (0, 0), max(FILTER_SIGMA * iod, 0.5))
+    # Normalised convolution: the filter averages only trusted pixels, so the ratio of
+    # teeth to lips or of hair to hair does not leak into the skin around them.
+    weight = mask * texture_confidence(y_neutral, iod)
+    sigma = max(FILTER_SIGMA * iod, 0.5)
+    ratio = cv2.GaussianBlur(weight * ratio, (0, 0), sigma) / (cv2.GaussianBlur(weight, (0, 0), sigma) + 1e-6)
     ratio = np.clip(ratio, *CLAMP)
-    return 1.0 + mask * texture_confidence(y_neutral, iod) * (ratio - 1.0)
+    return 1.0 + weight * (ratio - 1.0)
 
 
 def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | float = 1.0) -> np.ndarray:
