@@ -95,3 +95,16 @@ def test_methods_together_equal_methods_alone(pair, results):
         alone = exprclone.clone(*images, method=method, landmarks=landmarks)
         assert np.array_equal(alone.image, results[method].image), method
         assert alone.lambda_k == results[method].lambda_k
+
+
+def test_photos_of_different_sizes(pair):
+    import cv2
+
+    (sn, se, target), _ = pair
+    small = [cv2.resize(im, (700, 700), interpolation=cv2.INTER_AREA) for im in (sn, se)]
+    r = exprclone.clone(*small, target, method="e+md")
+    assert r.image.shape == target.shape
+    # the motion is scaled into the target: the mouth widens as much as with full-size sources
+    full = exprclone.clone(sn, se, target, method="global", landmarks=pair[1])
+    width = lambda p: np.linalg.norm(p[54] - p[48])  # noqa: E731
+    assert width(r.landmarks["global"]) == pytest.approx(width(full.landmarks["global"]), rel=0.03)

@@ -36,15 +36,16 @@ class Detector:
     """Face detector plus 68-point shape predictor, loaded lazily on first use."""
 
     def __init__(self) -> None:
+        self._dlib = None
         self._detector = None
         self._predictor = None
 
     def _load(self) -> None:
         import dlib  # heavy import, only when landmarks are really detected
 
+        self._dlib = dlib
         self._detector = dlib.get_frontal_face_detector()
         self._predictor = dlib.shape_predictor(model_path("shape_predictor_68_face_landmarks.dat"))
-        self._rect = dlib.rectangle
 
     def faces(self, image: np.ndarray) -> list[tuple[float, float, float, float]]:
         """Face boxes ``(left, top, right, bottom)`` in full-resolution pixels, largest first.
@@ -66,7 +67,7 @@ class Detector:
         """Fit the 68 landmarks at full resolution inside a face box; ``(68, 2)`` float64."""
         if self._predictor is None:
             self._load()
-        rect = self._rect(*(int(round(v)) for v in box))
+        rect = self._dlib.rectangle(*(int(round(v)) for v in box))
         shape = self._predictor(np.ascontiguousarray(image), rect)
         return np.array([(p.x, p.y) for p in shape.parts()], dtype=float)
 

@@ -1,0 +1,51 @@
+import cv2
+import numpy as np
+import pytest
+
+from exprclone.errors import ExprCloneError, ExprCloneWarning
+from exprclone.landmarks import Detector, model_path
+
+
+@pytest.fixture(scope="module")
+def detector():
+    return Detector()
+
+
+def test_model_ships_in_face_recognition_models():
+    assert model_path("shape_predictor_68_face_landmarks.dat").endswith(".dat")
+    with pytest.raises(ExprCloneError, match="missing"):
+        model_path("no_such_model.dat")
+
+
+def test_landmarks_are_placed_on_the_face(photo, detector):
+    image, _ = photo("005")
+    lm = detector.detect(image)
+    assert lm.shape == (68, 2)
+    assert lm[36, 0] < lm[39, 0] < lm[42, 0] < lm[45, 0]  # eye corners left to right
+    assert lm[27:31, 1].tolist() == sorted(lm[27:31, 1])  # nose bridge runs down
+    assert lm[19, 1] < lm[37, 1] < lm[30, 1] < lm[51, 1] < lm[57, 1] < lm[8, 1]  # brow, eye, nose, lips, chin
+
+
+def test_small_photo_is_still_found(photo, detector):
+    image, full = photo("005")
+    small = cv2.resize(image, (240, 240), interpolation=cv2.INTER_AREA)
+    lm = detector.detect(small) * (image.shape[1] / 240)
+    iod = np.linalg.norm(full[45] - full[36])
+    assert np.median(np.linalg.norm(lm - full, axis=1)) < 0.05 * iod
+
+
+def test_several_faces_take_the_largest_with_a_warning(photo, detector):
+    big, big_lm = photo("005")
+    other, _ = photo("006")
+    canvas = np.full((1350, 1600, 3), 230, np.uint8)
+    canvas[:, :900] = big[:, 225:1125]  # the faces sit in the middle of the photos
+    canvas[175:1175, 900:1600] = cv2.resize(other, (1000, 1000), interpolation=cv2.INTER_AREA)[:, 150:850]
+    big_lm = big_lm - (225, 0)
+    with pytest.warns(ExprCloneWarning, match="2 faces found, using the largest"):
+        lm = detector.detect(canvas, "group.jpg")
+    assert np.median(np.linalg.norm(lm - big_lm, axis=1)) < 3
+
+
+def test_no_face_is_an_error_naming_the_image(detector):
+    with pytest.raises(ExprCloneError, match="wall.png: no face found"):
+        detector.detect(np.full((300, 300, 3), 128, np.uint8), "wall.png")
