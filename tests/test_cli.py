@@ -71,3 +71,27 @@ def test_bad_options(london, tmp_path, args, needle):
     p = run("clone", SN, SE, TN, "-o", tmp_path / "r.png", *args)
     assert p.returncode == 2 and needle in p.stderr
     assert not (tmp_path / "r.png").exists()
+
+
+def test_compare_draws_the_sheet(london, tmp_path):
+    out = tmp_path / "panel.png"
+    p = run("compare", SN, SE, TN, "-o", out)
+    assert p.returncode == 0, p.stderr
+    w, h = Image.open(out).size
+    assert w == 8 * 320 and h == 3 * 320
+
+
+def test_evaluate_on_two_pairs(london, tmp_path):
+    out = tmp_path / "report"
+    p = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global,e+md", "--out", out)
+    assert p.returncode == 0, p.stderr
+    rows = (out / "pairs.csv").read_text().splitlines()
+    assert len(rows) == 1 + 2 * 4  # header, then (no change, real, global, e+md) per pair
+    summary = (out / "summary.md").read_text()
+    assert "| e+md |" in summary and "| no change |" in summary and (out / "gallery.jpg").is_file()
+    assert "| real | 2 | 0 | 0.0000 / 0.0000" in p.stdout
+
+
+def test_evaluate_rejects_an_unknown_method(london, tmp_path):
+    p = run("evaluate", "--data", london, "--methods", "global,warp", "--out", tmp_path / "r")
+    assert p.returncode == 2 and "warp" in p.stderr and not (tmp_path / "r").exists()

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import warnings
 from pathlib import Path
@@ -30,22 +31,37 @@ def lambda_arg(text: str) -> float | str:
     return value
 
 
+def add_inputs(p: argparse.ArgumentParser) -> None:
+    """The three photos, their optional landmark files and the clone options."""
+    p.add_argument("source_neutral", help="photo of the source person, neutral")
+    p.add_argument("source_expression", help="photo of the source person with the expression")
+    p.add_argument("target_neutral", help="photo of the target person, neutral")
+    p.add_argument("--lambda", dest="lambda_k", type=lambda_arg, default="auto", metavar="auto|FLOAT", help="elasticity ratio k_A'/k_N; auto picks it by the DB metric (default)")
+    for which in ("source-neutral", "source-expression", "target-neutral"):
+        p.add_argument(f"--{which}-landmarks", metavar="FILE", help=f"landmarks of the {which.replace('-', ' ')} photo (.json, or a WebMorph .tem) instead of detecting them")
+    p.add_argument("--eigenfaces", metavar="PATH", help="eigenface basis for the DB metric: a .npz, or a folder of face photos to train one on")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .clone import METHODS
 
     parser = argparse.ArgumentParser(prog="exprclone", description="Facial expression cloning with elastic and muscle models (E+MD).")
     sub = parser.add_subparsers(dest="command", required=True)
     c = sub.add_parser("clone", help="put the source's expression on the target's face")
-    c.add_argument("source_neutral", help="photo of the source person, neutral")
-    c.add_argument("source_expression", help="photo of the source person with the expression")
-    c.add_argument("target_neutral", help="photo of the target person, neutral")
+    add_inputs(c)
     c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
     c.add_argument("--method", choices=METHODS, default="e+md", help="method of the paper's Fig. 11 (default: e+md)")
-    c.add_argument("--lambda", dest="lambda_k", type=lambda_arg, default="auto", metavar="auto|FLOAT", help="elasticity ratio k_A'/k_N; auto picks it by the DB metric (default)")
     c.add_argument("--save-json", metavar="OUT.json", help="write the landmarks of every stage, lambda_k and the DB curve")
-    for which in ("source-neutral", "source-expression", "target-neutral"):
-        c.add_argument(f"--{which}-landmarks", metavar="FILE", help=f"landmarks of the {which.replace('-', ' ')} photo (.json, or a WebMorph .tem) instead of detecting them")
-    c.add_argument("--eigenfaces", metavar="PATH", help="eigenface basis for the DB metric: a .npz, or a folder of face photos to train one on")
+    c = sub.add_parser("compare", help="the paper's Figs. 11-13 and the DB curve as one sheet")
+    add_inputs(c)
+    c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
+    e = sub.add_parser("evaluate", help="score every method against real smiles on many pairs")
+    e.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA_LONDON", "../shared/data/london"), help="folder with neutral_front/ID_03.jpg and smiling_front/ID_08.jpg (default: ../shared/data/london)")
+    e.add_argument("--pairs", type=int, default=50, help="ordered pairs of different people, drawn with --seed (0: all; default 50)")
+    e.add_argument("--seed", type=int, default=0)
+    e.add_argument("--methods", default="all", help="comma-separated methods, or all (default)")
+    e.add_argument("--out", default="report", help="report folder (default: report/)")
+    e.add_argument("--jobs", type=int, default=1, help="processes to use (default 1)")
     return parser
 
 
@@ -91,17 +107,26 @@ def read_landmarks(path: str, shape: tuple[int, ...]):
     return read(path, shape)
 
 
+def load_inputs(args: argparse.Namespace) -> tuple[list[str], list, tuple]:
+    """The three photos and their landmark files, as named on the command line."""
+    from .images import load_image
+
+    inputs = [args.source_neutral, args.source_expression, args.target_neutral]
+    images = [load_image(p) for p in inputs]
+    files = (args.source_neutral_landmarks, args.source_expression_landmarks, args.target_neutral_landmarks)
+    landmarks = tuple(None if f is None else read_landmarks(f, im.shape) for f, im in zip(files, images))
+    return inputs, images, landmarks
+
+
 def run_clone(args: argparse.Namespace) -> None:
     from .clone import clone
-    from .images import atomic_write, check_output_path, load_image, save_image
+    from .images import atomic_write, check_output_path, save_image
 
     inputs = [args.source_neutral, args.source_expression, args.target_neutral]
     check_output_path(args.output, inputs)
     if args.save_json:
         check_output_path(args.save_json, inputs + [args.output], extensions=[".json"])
-    images = [load_image(p) for p in inputs]
-    files = (args.source_neutral_landmarks, args.source_expression_landmarks, args.target_neutral_landmarks)
-    landmarks = tuple(None if f is None else read_landmarks(f, im.shape) for f, im in zip(files, images))
+    inputs, images, landmarks = load_inputs(args)
     result = clone(*images, method=args.method, lambda_k=args.lambda_k, landmarks=landmarks, eigenfaces=load_eigenfaces(args.eigenfaces), names=tuple(inputs))
     save_image(args.output, result.image, inputs=inputs)
     if args.save_json:
@@ -109,6 +134,38 @@ def run_clone(args: argparse.Namespace) -> None:
         atomic_write(args.save_json, lambda f: f.write(record))
     extra = "" if result.lambda_k is None else f", lambda_k={result.lambda_k:g}"
     print(f"{args.output}: {args.method}{extra}")
+
+
+def run_compare(args: argparse.Namespace) -> None:
+    from .clone import clone_methods
+    from .compare import sheet
+    from .images import check_output_path, save_image
+
+    check_output_path(args.output, [args.source_neutral, args.source_expression, args.target_neutral])
+    inputs, images, landmarks = load_inputs(args)
+    results = clone_methods(*images, lambda_k=args.lambda_k, landmarks=landmarks, eigenfaces=load_eigenfaces(args.eigenfaces), names=tuple(inputs))
+    save_image(args.output, sheet(results, images[1]), inputs=inputs)
+    print(f"{args.output}: 7 methods, lambda_k={results['e+md'].lambda_k:g}")
+
+
+def run_evaluate(args: argparse.Namespace) -> None:
+    from pathlib import Path
+
+    from .clone import METHODS
+    from .evaluate import Dataset, run, summarise, table, write_report
+
+    methods = METHODS if args.methods == "all" else tuple(m.strip() for m in args.methods.split(","))
+    unknown = [m for m in methods if m not in METHODS]
+    if unknown:
+        raise ExprCloneError(f"--methods: unknown method {unknown[0]!r}; choose from: {', '.join(METHODS)}")
+    data = Dataset.open(args.data)
+    pairs = data.pairs(args.pairs, args.seed)
+    rows = run(data, pairs, methods, jobs=max(1, args.jobs))
+    command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"
+    write_report(Path(args.out), data, rows, methods, command)
+    print(table(summarise(rows)))
+    print(f"strong smiles only:\n{table(summarise(rows, strong_only=True))}")
+    print(f"report: {Path(args.out) / 'summary.md'}")
 
 
 def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
@@ -120,7 +177,7 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     warnings.showwarning = show_warning
     try:
-        {"clone": run_clone}[args.command](args)
+        {"clone": run_clone, "compare": run_compare, "evaluate": run_evaluate}[args.command](args)
     except ExprCloneError as e:
         print(f"exprclone: error: {e}", file=sys.stderr)
         return EXIT_USAGE

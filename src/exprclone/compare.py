@@ -1,0 +1,91 @@
+"""``exprclone compare``: the paper's Figs. 11-13 and the DB curve as one labelled sheet.
+
+Row 1 (Fig. 11): the seven methods (a)-(g) and the source expression (h).
+Row 2 (Fig. 12): the differences of (b)-(g) to the global result (a).
+Row 3 (Fig. 13): (b)-(a), (c)-(a), (d)-(a), (e)-(d), (f)-(d), (g)-(f), then the DB metric
+over lambda_k with the chosen value marked.
+
+A difference image is the absolute luminance difference of two results, normalised so
+that its largest value is 255 ("normalizing the values to the range 0~255", Sec. IV).
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from .clone import METHODS, CloneResult
+from .metric import DBCurve
+
+CELL = 320
+FIG13 = (("local", "global"), ("elastic", "global"), ("global+eri", "global"), ("local+eri", "global+eri"), ("elastic+eri", "global+eri"), ("e+md", "elastic+eri"))
+
+
+def face_box(landmarks: np.ndarray, shape: tuple[int, ...]) -> tuple[slice, slice]:
+    """A square box around the face with a margin, inside the image."""
+    centre = (landmarks.min(0) + landmarks.max(0)) / 2
+    half = 0.7 * (landmarks.max(0) - landmarks.min(0)).max()
+    x0, y0 = np.maximum(0, np.floor(centre - half)).astype(int)
+    x1, y1 = np.minimum((shape[1], shape[0]), np.ceil(centre + half)).astype(int)
+    return slice(y0, y1), slice(x0, x1)
+
+
+def difference(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Absolute luminance difference of two RGB images, normalised to 0-255, as RGB."""
+    d = np.abs(cv2.cvtColor(a, cv2.COLOR_RGB2GRAY).astype(np.float32) - cv2.cvtColor(b, cv2.COLOR_RGB2GRAY))
+    d = (255 * d / max(float(d.max()), 1e-6)).astype(np.uint8)
+    return cv2.cvtColor(d, cv2.COLOR_GRAY2RGB)
+
+
+def cell(image: np.ndarray, text: str) -> np.ndarray:
+    """An image scaled to the cell size with a caption bar."""
+    out = cv2.resize(image, (CELL, CELL), interpolation=cv2.INTER_AREA)
+    cv2.rectangle(out, (0, 0), (CELL, 24), (255, 255, 255), -1)
+    cv2.putText(out, text, (5, 17), cv2.FONT_HERSHEY_SIMPLEX, 0.5, (0, 0, 0), 1, cv2.LINE_AA)
+    return out
+
+
+def db_plot(curve: DBCurve) -> np.ndarray:
+    """The DB metric over the candidate lambda_k (evenly spaced), the chosen one in red."""
+    img = np.full((CELL, CELL, 3), 255, np.uint8)
+    left, right, top, bottom = 40, CELL - 12, 40, CELL - 40
+    db = curve.db
+    lo, hi = float(db.min()), float(db.max())
+    span = max(hi - lo, 1e-9)
+    xs = np.linspace(left, right, len(db))
+    ys = bottom - (db - lo) / span * (bottom - top)
+    cv2.line(img, (left, bottom), (right, bottom), (0, 0, 0), 1)
+    cv2.line(img, (left, top), (left, bottom), (0, 0, 0), 1)
+    cv2.polylines(img, [np.stack([xs, ys], 1).round().astype(np.int32)], False, (40, 40, 200), 2, cv2.LINE_AA)
+    for x, lam in zip(xs, curve.lambdas):
+        label = "inf" if np.isinf(lam) else f"{lam:g}"
+        cv2.putText(img, label, (int(x) - 8, bottom + 14 + 12 * (int(x) % 2)), cv2.FONT_HERSHEY_SIMPLEX, 0.3, (0, 0, 0), 1, cv2.LINE_AA)
+    k = int(np.flatnonzero(curve.lambdas == curve.best)[0])
+    cv2.circle(img, (int(xs[k]), int(ys[k])), 6, (220, 0, 0), -1)
+    cv2.putText(img, f"DB (Eq. 7); lambda_k = {curve.best:g}", (8, 18), cv2.FONT_HERSHEY_SIMPLEX, 0.45, (0, 0, 0), 1, cv2.LINE_AA)
+    cv2.putText(img, f"{hi:.3f}", (2, top + 4), cv2.FONT_HERSHEY_SIMPLEX, 0.3, (0, 0, 0), 1, cv2.LINE_AA)
+    cv2.putText(img, f"{lo:.3f}", (2, bottom), cv2.FONT_HERSHEY_SIMPLEX, 0.3, (0, 0, 0), 1, cv2.LINE_AA)
+    return img
+
+
+def sheet(results: dict[str, CloneResult], source_expression: np.ndarray) -> np.ndarray:
+    """The three rows of the module docstring as one RGB image.
+
+    Parameters
+    ----------
+    results : dict of str to CloneResult
+        All seven methods (:func:`exprclone.clone_methods`).
+    source_expression : ndarray of shape (H, W, 3)
+    """
+    letters = dict(zip(METHODS, "abcdefg"))
+    lm = results["global"].landmarks
+    box = face_box(lm["target_neutral"], results["global"].image.shape)
+    src_box = face_box(lm["source_expression"], source_expression.shape)
+    crop = {m: r.image[box] for m, r in results.items()}
+    row1 = [cell(crop[m], f"({letters[m]}) {m}") for m in METHODS] + [cell(source_expression[src_box], "(h) source expression")]
+    row2 = [cell(difference(crop[m], crop["global"]), f"Fig. 12: ({letters[m]}) - (a)") for m in METHODS[1:]]
+    row3 = [cell(difference(crop[a], crop[b]), f"Fig. 13: ({letters[a]}) - ({letters[b]})") for a, b in FIG13]
+    blank = np.full((CELL, CELL, 3), 255, np.uint8)
+    row2 += [blank, blank]
+    row3 += [db_plot(results["e+md"].db_curve) if results["e+md"].db_curve is not None else blank, blank]
+    return np.vstack([np.hstack(row1), np.hstack(row2), np.hstack(row3)])

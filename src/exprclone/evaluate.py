@@ -1,0 +1,248 @@
+"""``exprclone evaluate``: every method on many cross-person pairs, scored against real smiles.
+
+For an ordered pair (A, B) of different people, A's neutral-to-smile change is cloned
+onto B's neutral photo by every method, and each result is scored against B's own real
+smile (:mod:`exprclone.evaluation`). Two references share the table: ``no change`` (B's
+neutral photo taken as the result: the floor) and ``real`` (B's real smile: the
+ceiling, zero landmark error by construction, its identity distance the natural one).
+
+A subtle real smile is a poor ground truth for a broad cloned one, so every table is
+also given for the pairs whose target smiles strongly: B's mouth corners move apart by
+at least :data:`STRONG_SMILE` (10%) between B's two photos, relative to the outer-eye
+-corner distance (head motion removed).
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+import multiprocessing
+import os
+import sys
+import time
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import geometry, global_warp
+from .clone import METHODS, clone_methods, default_detector
+from .errors import ExprCloneError
+from .evaluation import SAME_PERSON, FaceDescriptor, identity_distance, landmark_error
+from .images import load_image, save_image
+from .layout import DLIB68
+
+#: relative widening of the mouth (corner distance / eye-corner distance) that makes a strong smile.
+STRONG_SMILE = 0.10
+REFERENCES = ("no change", "real")
+FIELDS = ("source", "target", "method", "strong", "failed", "overall", "mouth", "eyes_brows", "identity", "lambda_k")
+
+
+@dataclass(frozen=True)
+class Dataset:
+    """The photos of a London-Set-like folder: ``neutral_front/ID_03.jpg`` and ``smiling_front/ID_08.jpg``."""
+
+    root: Path
+    ids: tuple[str, ...]
+
+    @classmethod
+    def open(cls, root: str | os.PathLike) -> "Dataset":
+        root = Path(root)
+        ids = tuple(sorted(p.name[:3] for p in (root / "neutral_front").glob("*_03.jpg") if (root / "smiling_front" / f"{p.name[:3]}_08.jpg").is_file()))
+        if len(ids) < 2:
+            raise ExprCloneError(f"{root}: needs neutral_front/ID_03.jpg and smiling_front/ID_08.jpg for at least two people")
+        return cls(root, ids)
+
+    def path(self, face_id: str, smiling: bool) -> str:
+        return str(self.root / ("smiling_front" if smiling else "neutral_front") / f"{face_id}_{'08' if smiling else '03'}.jpg")
+
+    def pairs(self, n: int, seed: int) -> list[tuple[str, str]]:
+        """``n`` ordered pairs of different people drawn with a fixed seed (0: all of them)."""
+        every = [(a, b) for a in self.ids for b in self.ids if a != b]
+        if n <= 0 or n >= len(every):
+            return every
+        pick = np.random.default_rng(seed).choice(len(every), n, replace=False)
+        return [every[i] for i in sorted(pick)]
+
+
+@functools.cache
+def _photo(path: str) -> np.ndarray:
+    return load_image(path)
+
+
+@functools.cache
+def _descriptor() -> FaceDescriptor:
+    return FaceDescriptor()
+
+
+def smile_strength(neutral: np.ndarray, smile: np.ndarray) -> float:
+    """Relative widening of the mouth from ``neutral`` to ``smile`` landmarks (head motion removed)."""
+    aligned = global_warp.remove_head_motion(neutral, smile, DLIB68)
+    width = lambda p: np.linalg.norm(p[54] - p[48]) / geometry.interocular(p, DLIB68)  # noqa: E731
+    return float(width(aligned) / width(neutral) - 1.0)
+
+
+def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict) -> tuple[list[dict], dict]:
+    """Clone A's smile onto B by each method and score it; also the two references.
+
+    Returns
+    -------
+    rows : list of dict
+        One row of :data:`FIELDS` per method and reference.
+    images : dict
+        The result images by method (for the gallery).
+    """
+    a, b = pair
+    sn, se, tn, ts = data.path(a, False), data.path(a, True), data.path(b, False), data.path(b, True)
+    truth = landmarks[ts]
+    target_descriptor = _descriptor()(_photo(tn), landmarks[tn])
+    strong = smile_strength(landmarks[tn], truth) >= STRONG_SMILE
+    candidates: dict[str, tuple[np.ndarray | None, str, float | None]] = {"no change": (_photo(tn), "", None), "real": (_photo(ts), "", None)}
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            results = clone_methods(_photo(sn), _photo(se), _photo(tn), methods, landmarks=(landmarks[sn], landmarks[se], landmarks[tn]), names=(sn, se, tn))
+        candidates.update({m: (r.image, "", r.lambda_k) for m, r in results.items()})
+    except Exception as e:  # counted as a failure of every method, never dropped
+        candidates.update({m: (None, f"{type(e).__name__}: {e}", None) for m in methods})
+    rows, images = [], {}
+    for method, (image, failed, lam) in candidates.items():
+        row = dict.fromkeys(FIELDS, "")
+        row.update(source=a, target=b, method=method, strong=int(strong), lambda_k="" if lam is None else lam)
+        if image is not None:
+            images[method] = image
+            try:
+                found = landmarks[ts] if method == "real" else landmarks[tn] if method == "no change" else default_detector().detect(image, f"{method} result")
+                row.update(landmark_error(found, truth, DLIB68))
+                row["identity"] = identity_distance(_descriptor()(image, found), target_descriptor)
+            except ExprCloneError as e:
+                failed = str(e)
+        row["failed"] = failed
+        rows.append(row)
+    return rows, images
+
+
+def _score(args):
+    data, pair, methods, landmarks = args
+    return score_pair(data, pair, methods, landmarks)[0]
+
+
+def run(data: Dataset, pairs: list[tuple[str, str]], methods: tuple[str, ...], jobs: int = 1, progress=sys.stderr) -> list[dict]:
+    """Score every pair (in ``jobs`` processes), with a progress bar on ``progress``."""
+    people = sorted({p for pair in pairs for p in pair})
+    paths = [data.path(p, s) for p in people for s in (False, True)]
+    landmarks = {}
+    for k, path in enumerate(paths, 1):
+        landmarks[path] = default_detector().detect(_photo(path), path)
+        _bar(progress, k, len(paths), "landmarks")
+    rows, start = [], time.time()
+    tasks = [(data, pair, methods, landmarks) for pair in pairs]
+    if jobs > 1:
+        with multiprocessing.get_context("fork").Pool(jobs) as pool:
+            for k, pair_rows in enumerate(pool.imap(_score, tasks), 1):
+                rows += pair_rows
+                _bar(progress, k, len(pairs), "pairs", time.time() - start)
+    else:
+        for k, task in enumerate(tasks, 1):
+            rows += _score(task)
+            _bar(progress, k, len(pairs), "pairs", time.time() - start)
+    return rows
+
+
+def _bar(stream, done: int, total: int, what: str, elapsed: float | None = None) -> None:
+    if stream is None:
+        return
+    width = 30
+    filled = int(width * done / total)
+    rate = f" {elapsed / done:.1f} s each" if elapsed else ""
+    stream.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} {what}{rate}")
+    if done == total:
+        stream.write("\n")
+    stream.flush()
+
+
+def summarise(rows: list[dict], strong_only: bool = False) -> list[dict]:
+    """Mean and median of each score per method; failures counted; share keeping identity."""
+    out = []
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    for m in methods:
+        mine = [r for r in rows if r["method"] == m and (not strong_only or r["strong"])]
+        ok = [r for r in mine if not r["failed"]]
+        line = {"method": m, "pairs": len(mine), "failed": len(mine) - len(ok)}
+        for key in ("overall", "mouth", "eyes_brows", "identity"):
+            values = np.array([r[key] for r in ok], float)
+            line[f"{key}_mean"] = float(values.mean()) if len(values) else float("nan")
+            line[f"{key}_median"] = float(np.median(values)) if len(values) else float("nan")
+        ids = np.array([r["identity"] for r in ok], float)
+        line["same_person"] = float((ids < SAME_PERSON).mean()) if len(ids) else float("nan")
+        out.append(line)
+    return out
+
+
+def table(summary: list[dict]) -> str:
+    """A Markdown table of :func:`summarise`'s output."""
+    head = "| method | pairs | failed | landmark error mean / median | mouth mean / median | eyes+brows mean / median | identity mean / median | identity < 0.6 |"
+    lines = [head, "|" + "---|" * 8]
+    for s in summary:
+        cell = lambda k: f"{s[k + '_mean']:.4f} / {s[k + '_median']:.4f}"  # noqa: E731
+        lines.append(f"| {s['method']} | {s['pairs']} | {s['failed']} | {cell('overall')} | {cell('mouth')} | {cell('eyes_brows')} | {cell('identity')} | {100 * s['same_person']:.0f}% |")
+    return "\n".join(lines)
+
+
+def write_report(out: Path, data: Dataset, rows: list[dict], methods: tuple[str, ...], command: str) -> str:
+    """``pairs.csv``, ``summary.md`` and the gallery of the best, median and worst e+md pairs."""
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / "pairs.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, FIELDS)
+        writer.writeheader()
+        writer.writerows(rows)
+    n_pairs = len({(r["source"], r["target"]) for r in rows})
+    n_strong = len({(r["source"], r["target"]) for r in rows if r["strong"]})
+    text = [
+        "# exprclone evaluation",
+        "",
+        f"`{command}`",
+        "",
+        f"{n_pairs} ordered pairs of different people from `{data.root}`; each method's result is scored against the target's real smile.",
+        "Landmark errors are in outer-eye-corner distances after similarity alignment; identity is dlib's face-descriptor distance to the target's neutral photo (same person below 0.6).",
+        "",
+        "## All pairs",
+        "",
+        table(summarise(rows)),
+        "",
+        f"## Pairs whose target smiles strongly ({n_strong}: mouth widens by at least {STRONG_SMILE:.0%})",
+        "",
+        table(summarise(rows, strong_only=True)),
+        "",
+    ]
+    gallery = _gallery(out, data, rows, "e+md" if "e+md" in methods else methods[-1])
+    if gallery:
+        text += ["## Gallery", "", f"Best, median and worst pairs by mouth error: {gallery}", "", f"![gallery]({gallery})", ""]
+    (out / "summary.md").write_text("\n".join(text))
+    return "\n".join(text)
+
+
+def _gallery(out: Path, data: Dataset, rows: list[dict], method: str) -> str | None:
+    """Rows of [source smile | target neutral | result | target real smile] for best, median, worst."""
+    import cv2
+
+    scored = sorted((r for r in rows if r["method"] == method and not r["failed"]), key=lambda r: r["mouth"])
+    if not scored:
+        return None
+    picks = {"best": scored[0], "median": scored[len(scored) // 2], "worst": scored[-1]}
+    strips = []
+    for name, r in picks.items():
+        _, images = score_pair(data, (r["source"], r["target"]), (method,), _landmarks_for(data, r))
+        cells = [_photo(data.path(r["source"], True)), _photo(data.path(r["target"], False)), images[method], _photo(data.path(r["target"], True))]
+        cells = [cv2.resize(c, (360, 360), interpolation=cv2.INTER_AREA) for c in cells]
+        strip = np.hstack(cells)
+        cv2.putText(strip, f"{name}: {r['source']} -> {r['target']}, mouth error {r['mouth']:.4f}", (8, 24), cv2.FONT_HERSHEY_SIMPLEX, 0.7, (255, 255, 255), 2, cv2.LINE_AA)
+        strips.append(strip)
+    save_image(out / "gallery.jpg", np.vstack(strips))
+    return "gallery.jpg"
+
+
+def _landmarks_for(data: Dataset, row: dict) -> dict:
+    paths = [data.path(p, s) for p in (row["source"], row["target"]) for s in (False, True)]
+    return {p: default_detector().detect(_photo(p), p) for p in paths}
