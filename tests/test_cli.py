@@ -7,9 +7,8 @@ import sys
 
 import numpy as np
 import pytest
-from PIL import Image
-
 from conftest import neutral_path, smile_path
+from PIL import Image
 
 SN, SE, TN = str(neutral_path("001")), str(smile_path("001")), str(neutral_path("003"))
 

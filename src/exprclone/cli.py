@@ -56,7 +56,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_inputs(c)
     c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
     e = sub.add_parser("evaluate", help="score every method against real smiles on many pairs")
-    e.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA_LONDON", "../shared/data/london"), help="folder with neutral_front/ID_03.jpg and smiling_front/ID_08.jpg (default: ../shared/data/london)")
+    london = os.path.join(os.environ.get("EXPRCLONE_DATA", "../shared/data"), "london")
+    e.add_argument("--data", default=london, help=f"folder with neutral_front/ID_03.jpg and smiling_front/ID_08.jpg (default: {london}, from $EXPRCLONE_DATA)")
     e.add_argument("--pairs", type=int, default=50, help="ordered pairs of different people, drawn with --seed (0: all; default 50)")
     e.add_argument("--seed", type=int, default=0)
     e.add_argument("--methods", default="all", help="comma-separated methods, or all (default)")
@@ -84,8 +85,8 @@ def load_eigenfaces(path: str | None):
     """The basis named by ``--eigenfaces``: None (packaged), a .npz, or a folder to train on."""
     if path is None:
         return None
-    from .eigenface import Eigenfaces, train
     from .clone import default_detector
+    from .eigenface import Eigenfaces, train
     from .layout import DLIB68
 
     p = Path(path)

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from . import geometry, global_warp
-from .clone import METHODS, clone_methods, default_detector
+from .clone import clone_methods, default_detector
 from .errors import ExprCloneError
 from .evaluation import SAME_PERSON, FaceDescriptor, identity_distance, landmark_error
 from .images import load_image, save_image

@@ -1,0 +1,170 @@
+"""exprclone benchmarks: medians per stage, per method, against peers, and with image size.
+
+    python benchmarks/run.py [--data ../shared/data] [--repeat 7] [--quick]
+
+Prints, for the sample photos at 512x512 and at their full 1350x1350:
+  * the median time of each stage (landmark detection of one photo, global, local,
+    elastic for one lambda_k, the lambda search, one mesh warp, the ERI, the MD mask);
+  * the median time of each method end to end, with landmarks known, and of e+md with
+    landmark detection on all three photos included;
+  * our piecewise-affine warp against scikit-image's PiecewiseAffineTransform + warp on
+    the same points and image, and against a bare cv2.remap with precomputed maps (the
+    floor for any warp), as ratios measured in the same run;
+  * how e+md's time grows with image size (256, 512, 1024, 2048);
+  * peak memory of one e+md clone at full size (a child process's max RSS), and the
+    start-up time of the ``exprclone`` command.
+Timings are wall-clock medians over --repeat runs after one warm-up run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from exprclone import METHODS, clone, clone_methods, elastic, eri, geometry, global_warp, local_warp, metric, muscle, warp
+from exprclone.clone import default_detector, default_eigenfaces
+from exprclone.images import load_image
+from exprclone.layout import DLIB68
+
+
+def median_ms(fn, repeat: int) -> float:
+    fn()
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return 1000 * statistics.median(times)
+
+
+def photos(data: Path, size: int) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    london = data / "london"
+    paths = [london / "neutral_front/001_03.jpg", london / "smiling_front/001_08.jpg", london / "neutral_front/003_03.jpg"]
+    images = [load_image(p) for p in paths]
+    if size != images[0].shape[0]:
+        images = [cv2.resize(im, (size, size), interpolation=cv2.INTER_AREA if size < im.shape[0] else cv2.INTER_CUBIC) for im in images]
+    return images, [default_detector().detect(im) for im in images]
+
+
+def stages(images, lms, repeat: int) -> dict[str, float]:
+    sn_img, se_img, tn_img = images
+    sn, se, tn = lms
+    mesh = warp.build_mesh(tn, tn_img.shape, DLIB68)
+    gl = global_warp.global_landmarks(sn, se, tn, DLIB68)
+    lo = local_warp.local_landmarks(gl, se, DLIB68)
+    nb = mesh.neighbours()
+    lambdas = np.array(metric.LAMBDAS)
+    cands = [elastic.elastic_landmarks(gl, lo, nb, lam) for lam in lambdas]
+    dst = mesh.control_points(gl)
+    iod = geometry.interocular(gl, DLIB68)
+    mask = eri.ratio_mask(tn_img.shape[:2], gl, dst[mesh.n_landmarks : mesh.n_moving], DLIB68)
+    centres, radii = muscle.areas(gl, DLIB68)
+    h = np.ones(len(centres))
+    return {
+        "landmark detection (1 photo)": median_ms(lambda: default_detector().detect(tn_img), repeat),
+        "mesh": median_ms(lambda: warp.build_mesh(tn, tn_img.shape, DLIB68), repeat),
+        "global (landmarks)": median_ms(lambda: global_warp.global_landmarks(sn, se, tn, DLIB68), repeat),
+        "local (landmarks)": median_ms(lambda: local_warp.local_landmarks(gl, se, DLIB68), repeat),
+        "elastic (1 lambda)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, 1.0), repeat),
+        "lambda search (13 candidates + DB)": median_ms(
+            lambda: metric.choose_lambda(tn_img, mesh, [elastic.elastic_landmarks(gl, lo, nb, lam) for lam in lambdas], lambdas, se_img, se, default_eigenfaces(), DLIB68), repeat
+        ),
+        "  of which DB on given candidates": median_ms(lambda: metric.choose_lambda(tn_img, mesh, cands, lambdas, se_img, se, default_eigenfaces(), DLIB68), repeat),
+        "warp (full image)": median_ms(lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles), repeat),
+        "ERI (ratio of two warped photos)": median_ms(lambda: eri.expression_ratio(tn_img, tn_img, mask, iod), repeat),
+        "ERI mask": median_ms(lambda: eri.ratio_mask(tn_img.shape[:2], gl, dst[mesh.n_landmarks : mesh.n_moving], DLIB68), repeat),
+        "MD mask (Eqs. 10-11)": median_ms(lambda: muscle.importance_mask(tn_img.shape[:2], centres, radii, h), repeat),
+    }
+
+
+def methods(images, lms, repeat: int) -> dict[str, float]:
+    out = {m: median_ms(lambda m=m: clone(*images, method=m, landmarks=lms), repeat) for m in METHODS}
+    out["all 7 methods (clone_methods)"] = median_ms(lambda: clone_methods(*images, landmarks=lms), repeat)
+    out["e+md with landmark detection"] = median_ms(lambda: clone(*images, method="e+md"), repeat)
+    return out
+
+
+def warp_peers(images, lms, repeat: int) -> dict[str, float]:
+    from skimage.transform import PiecewiseAffineTransform
+    from skimage.transform import warp as sk_warp
+
+    tn_img = images[2]
+    tn = lms[2]
+    mesh = warp.build_mesh(tn, tn_img.shape, DLIB68)
+    moved = tn + 4 * np.stack([np.sin(tn[:, 1] / 60), np.cos(tn[:, 0] / 50)], 1)
+    dst = mesh.control_points(moved)
+    ours = median_ms(lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles), repeat)
+
+    def skimage_warp():
+        t = PiecewiseAffineTransform()
+        t.estimate(dst, mesh.points)  # output -> input, as skimage's warp expects
+        return sk_warp(tn_img, t, preserve_range=True).astype(np.uint8)
+
+    sk = median_ms(skimage_warp, max(1, repeat // 3))
+    mx, my = warp.inverse_maps(mesh.points, dst, mesh.triangles, tn_img.shape[:2])
+    floor = median_ms(lambda: cv2.remap(tn_img, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE), repeat)
+    return {"exprclone warp": ours, "scikit-image PiecewiseAffineTransform + warp": sk, "bare cv2.remap, maps precomputed": floor}
+
+
+def peak_memory_mb(data: Path) -> float:
+    """Max RSS of a child process that runs one full-size e+md clone with detection."""
+    code = (
+        "import resource, sys; from exprclone import clone; from exprclone.images import load_image as l; "
+        f"d='{data}/london/'; clone(l(d+'neutral_front/001_03.jpg'), l(d+'smiling_front/001_08.jpg'), l(d+'neutral_front/003_03.jpg')); "
+        "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    return int(out.stdout.strip()) / 1024
+
+
+def startup_ms(repeat: int) -> dict[str, float]:
+    def cmd(*args):
+        return median_ms(lambda: subprocess.run(list(args), capture_output=True, check=True), repeat)
+
+    return {
+        "python -c pass (interpreter floor)": cmd(sys.executable, "-c", "pass"),
+        "exprclone --help": cmd(sys.executable, "-m", "exprclone", "--help"),
+        "import exprclone": cmd(sys.executable, "-c", "import exprclone"),
+    }
+
+
+def show(title: str, rows: dict[str, float], ratio_to: str | None = None) -> None:
+    print(f"\n{title}")
+    for name, ms in rows.items():
+        extra = f"  ({ms / rows[ratio_to]:.1f}x)" if ratio_to else ""
+        print(f"  {name:45s} {ms:9.1f} ms{extra}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+    parser.add_argument("--repeat", type=int, default=7)
+    parser.add_argument("--quick", action="store_true", help="skip the size sweep and the start-up timing")
+    args = parser.parse_args()
+    data = Path(args.data)
+    print(f"exprclone benchmarks: {os.cpu_count()} cores, median of {args.repeat} runs")
+    for size in (512, 1350):
+        images, lms = photos(data, size)
+        show(f"stages at {size}x{size}", stages(images, lms, args.repeat))
+        show(f"methods end to end at {size}x{size} (landmarks known unless said)", methods(images, lms, args.repeat))
+        show(f"piecewise-affine warp at {size}x{size}, ratio to the bare remap", warp_peers(images, lms, args.repeat), "bare cv2.remap, maps precomputed")
+    if not args.quick:
+        sweep = {}
+        for size in (256, 512, 1024, 2048):
+            images, lms = photos(data, size)
+            sweep[f"e+md at {size}x{size}"] = median_ms(lambda: clone(*images, method="e+md", landmarks=lms), args.repeat)
+        show("e+md with image size (landmarks known), ratio to 512", sweep, "e+md at 512x512")
+        show("start-up", startup_ms(args.repeat))
+    print(f"\npeak memory, one e+md clone at 1350x1350 with detection: {peak_memory_mb(data):.0f} MB (max RSS)")
+
+
+if __name__ == "__main__":
+    main()
