@@ -28,6 +28,20 @@ def test_clone_writes_image_and_json(london, tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["out.json", "out.png"]  # no temporary files left
 
 
+def test_clone_with_given_landmarks_and_fixed_lambda(pair, tmp_path):
+    _, landmarks = pair
+    files = []
+    for name, lm in zip(("sn", "se", "tn"), landmarks):
+        files.append(tmp_path / f"{name}.json")
+        files[-1].write_text(json.dumps({"landmarks": lm.tolist()}))
+    out, record = tmp_path / "out.jpg", tmp_path / "out.json"
+    p = run("clone", SN, SE, TN, "-o", out, "--method", "local+eri", "--lambda", "3", "--save-json", record,
+            "--source-neutral-landmarks", files[0], "--source-expression-landmarks", files[1], "--target-neutral-landmarks", files[2])
+    assert p.returncode == 0, p.stderr
+    data = json.loads(record.read_text())
+    assert np.allclose(data["landmarks"]["target_neutral"], landmarks[2], atol=1e-3)
+
+
 def expect_error(tmp_path, args, needle):
     """Exit 2, one line on stderr naming ``needle``, no traceback and no output file."""
     out = tmp_path / "result.png"
@@ -54,6 +68,20 @@ def test_no_face(london, tmp_path):
     blank = tmp_path / "wall.png"
     Image.fromarray(np.full((300, 400, 3), 200, np.uint8)).save(blank)
     expect_error(tmp_path, [blank, SE, TN], f"{blank}: no face found")
+
+
+def test_landmark_file_with_wrong_count(pair, tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"landmarks": pair[1][2][:50].tolist()}))
+    expect_error(tmp_path, [SN, SE, TN, "--target-neutral-landmarks", bad], bad)
+
+
+def test_landmark_file_outside_the_image(pair, tmp_path):
+    bad = tmp_path / "bad.json"
+    lm = pair[1][2].copy()
+    lm[10] = (5000, 20)
+    bad.write_text(json.dumps({"landmarks": lm.tolist()}))
+    expect_error(tmp_path, [SN, SE, TN, "--target-neutral-landmarks", bad], bad)
 
 
 def test_output_is_an_input(london, tmp_path):

@@ -101,16 +101,10 @@ def load_eigenfaces(path: str | None):
         raise ExprCloneError(f"{path}: not an eigenface basis (.npz with mean, components, size): {e}") from None
 
 
-def read_landmarks(path: str, shape: tuple[int, ...]):
-    """Landmarks from a file given on the command line (.json or .tem)."""
-    from .landmark_files import read_landmarks as read
-
-    return read(path, shape)
-
-
 def load_inputs(args: argparse.Namespace) -> tuple[list[str], list, tuple]:
     """The three photos and their landmark files, as named on the command line."""
     from .images import load_image
+    from .landmark_files import read_landmarks
 
     inputs = [args.source_neutral, args.source_expression, args.target_neutral]
     images = [load_image(p) for p in inputs]

@@ -14,6 +14,7 @@ import numpy as np
 from . import elastic, eri, geometry, global_warp, lips, local_warp, metric, muscle, warp
 from .eigenface import Eigenfaces
 from .errors import ExprCloneError
+from .landmark_files import check_points
 from .landmarks import Detector
 from .layout import DLIB68, Layout
 
@@ -77,19 +78,6 @@ def check_image(image: np.ndarray, name: str) -> np.ndarray:
     if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
         raise ExprCloneError(f"{name}: expected an (H, W, 3) uint8 RGB image, got shape {image.shape} dtype {image.dtype}")
     return image
-
-
-def check_landmarks(points: np.ndarray, image: np.ndarray, layout: Layout, name: str) -> np.ndarray:
-    """Landmarks as an ``(N, 2)`` float array inside the image, or ExprCloneError naming them."""
-    points = np.asarray(points, float)
-    if points.shape != (layout.n_points, 2):
-        raise ExprCloneError(f"{name}: expected {layout.n_points} landmarks of (x, y), got an array of shape {points.shape}")
-    h, w = image.shape[:2]
-    outside = ~np.isfinite(points).all(1) | (points[:, 0] < 0) | (points[:, 0] > w - 1) | (points[:, 1] < 0) | (points[:, 1] > h - 1)
-    if outside.any():
-        i = int(np.flatnonzero(outside)[0])
-        raise ExprCloneError(f"{name}: landmark {i} at {tuple(points[i])} is outside the {w}x{h} image")
-    return points
 
 
 def face_box(points: np.ndarray, iod: float, shape: tuple[int, ...]) -> tuple[int, int, int, int]:
@@ -172,7 +160,7 @@ def clone_methods(
     given = landmarks if landmarks is not None else (None, None, None)
     detector = detector or default_detector()
     pts = [
-        lips.uncross(detector.detect(im, n) if p is None else check_landmarks(p, im, layout, n), layout)
+        lips.uncross(detector.detect(im, n) if p is None else check_points(p, im.shape, layout.n_points, n), layout)
         for im, p, n in zip(images, given, names)
     ]
     s_neu, s_exp, t_neu = pts
