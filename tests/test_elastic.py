@@ -57,3 +57,12 @@ def test_larger_lambda_moves_closer_to_local(springs):
     gl, lo, nb = springs
     dist = [np.linalg.norm(elastic.elastic_landmarks(gl, lo, nb, lam) - lo) for lam in (0.0, 0.5, 2.0, 10.0)]
     assert all(a > b for a, b in zip(dist, dist[1:]))
+
+
+def test_many_lambdas_at_once_equal_one_at_a_time(springs):
+    gl, lo, nb = springs
+    lambdas = np.array([0.0, 0.3, 2.0, np.inf])
+    together = elastic.elastic_landmarks(gl, lo, nb, lambdas)
+    assert together.shape == (4, 68, 2)
+    for lam, p in zip(lambdas, together):
+        assert np.allclose(p, elastic.elastic_landmarks(gl, lo, nb, lam))

@@ -176,7 +176,7 @@ def clone_methods(
         neighbours = mesh.neighbours()
         if lambda_k == "auto":
             lambdas = np.array(metric.LAMBDAS)
-            candidates = [elastic.elastic_landmarks(gl, lo, neighbours, lam) for lam in lambdas]
+            candidates = list(elastic.elastic_landmarks(gl, lo, neighbours, lambdas))
             curve = metric.choose_lambda(tgt_img, mesh, candidates, lambdas, src_exp_img, s_exp, eigenfaces or default_eigenfaces(), layout)
             chosen = curve.best
             stages["elastic"] = candidates[int(np.flatnonzero(lambdas == chosen)[0])]

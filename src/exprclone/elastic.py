@@ -28,7 +28,7 @@ def pad_neighbours(neighbours: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray
     return index, mask
 
 
-def net_force(p: np.ndarray, a: np.ndarray, a_local: np.ndarray, b: np.ndarray, mask: np.ndarray, lambda_k: float) -> np.ndarray:
+def net_force(p: np.ndarray, a: np.ndarray, a_local: np.ndarray, b: np.ndarray, mask: np.ndarray, lambda_k: float | np.ndarray) -> np.ndarray:
     """Net spring force on candidate positions, in units of ``k_N`` (Eqs. 3, 4, 6).
 
     ``F_Bi(P) = k_N * dl_Bi(P) * e_Bi(P)`` with ``dl_Bi(P) = |P - B_i| - |A - B_i|`` (zero
@@ -46,7 +46,7 @@ def net_force(p: np.ndarray, a: np.ndarray, a_local: np.ndarray, b: np.ndarray, 
         Neighbour positions ``B_i`` (global).
     mask : ndarray of shape (N, K)
         Which neighbour slots are real.
-    lambda_k : float
+    lambda_k : float or ndarray of shape (N, 1, 1)
 
     Returns
     -------
@@ -60,12 +60,13 @@ def net_force(p: np.ndarray, a: np.ndarray, a_local: np.ndarray, b: np.ndarray, 
     return f_b.sum(axis=2) + lambda_k * (a_local[:, None, :] - p)
 
 
-def elastic_landmarks(global_pts: np.ndarray, local_pts: np.ndarray, neighbours: list[np.ndarray], lambda_k: float) -> np.ndarray:
+def elastic_landmarks(global_pts: np.ndarray, local_pts: np.ndarray, neighbours: list[np.ndarray], lambda_k: float | np.ndarray) -> np.ndarray:
     """``P_opt`` for every landmark, Eq. (5), by a refining grid search in the window.
 
-    All points are solved at once (vectorised); each sees its neighbours at their
-    global positions, as in Figs. 6-7. ``lambda_k = 0`` gives the global positions,
-    ``lambda_k = inf`` (``k_N = 0``) the local ones.
+    All points are solved at once (vectorised), and so are several ``lambda_k``; each
+    point sees its neighbours at their global positions, as in Figs. 6-7.
+    ``lambda_k = 0`` gives the global positions, ``lambda_k = inf`` (``k_N = 0``) the
+    local ones.
 
     Parameters
     ----------
@@ -73,32 +74,36 @@ def elastic_landmarks(global_pts: np.ndarray, local_pts: np.ndarray, neighbours:
         ``A`` and ``A'`` of every landmark.
     neighbours : list of ndarray
         Triangulation neighbours of each landmark (:meth:`Mesh.neighbours`).
-    lambda_k : float
+    lambda_k : float or ndarray of shape (L,)
         Elasticity ratio ``k_A' / k_N`` (Eq. 6), ``>= 0``.
 
     Returns
     -------
-    ndarray of shape (N, 2)
+    ndarray of shape (N, 2), or (L, N, 2) for an array of ``lambda_k``
     """
-    if np.isinf(lambda_k):
-        return local_pts.copy()
+    lambdas = np.atleast_1d(np.asarray(lambda_k, float))
+    n_lambda, n = len(lambdas), len(global_pts)
     index, mask = pad_neighbours(neighbours)
-    b = global_pts[index]
-    lo = np.minimum(global_pts, local_pts)
-    hi = np.maximum(global_pts, local_pts)
+    # every (lambda_k, point) is one independent problem
+    a, a_local = np.tile(global_pts, (n_lambda, 1)), np.tile(local_pts, (n_lambda, 1))
+    b, mask = np.tile(global_pts[index], (n_lambda, 1, 1)), np.tile(mask, (n_lambda, 1))
+    lam = np.repeat(np.where(np.isinf(lambdas), 0.0, lambdas), n)[:, None, None]
+    lo, hi = np.minimum(a, a_local), np.maximum(a, a_local)
     centre, half = (lo + hi) / 2, (hi - lo) / 2
     steps = np.linspace(-1.0, 1.0, GRID)
     offsets = np.stack(np.meshgrid(steps, steps, indexing="ij"), -1).reshape(-1, 2)  # (M, 2)
     # The window's corners A and A' are candidates of the first pass.
-    best = global_pts.copy()
-    best_norm = np.linalg.norm(net_force(best[:, None], global_pts, local_pts, b, mask, lambda_k)[:, 0], axis=-1)
+    best = a.copy()
+    best_norm = np.linalg.norm(net_force(best[:, None], a, a_local, b, mask, lam)[:, 0], axis=-1)
+    rows = np.arange(len(a))
     for _ in range(PASSES):
         cand = np.clip(centre[:, None, :] + offsets[None] * half[:, None, :], lo[:, None], hi[:, None])
-        norms = np.linalg.norm(net_force(cand, global_pts, local_pts, b, mask, lambda_k), axis=-1)
+        norms = np.linalg.norm(net_force(cand, a, a_local, b, mask, lam), axis=-1)
         k = norms.argmin(axis=1)
-        rows = np.arange(len(cand))
         better = norms[rows, k] < best_norm
         best[better] = cand[rows, k][better]
         best_norm[better] = norms[rows, k][better]
         centre, half = best, half * 2 / (GRID - 1)
-    return best
+    out = best.reshape(n_lambda, n, 2)
+    out[np.isinf(lambdas)] = local_pts  # k_N = 0: only the spring to A' is left
+    return out if np.ndim(lambda_k) else out[0]
