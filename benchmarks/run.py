@@ -65,7 +65,7 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
     cands = [elastic.elastic_landmarks(gl, lo, nb, lam) for lam in lambdas]
     dst = mesh.control_points(gl)
     iod = geometry.interocular(gl, DLIB68)
-    mask = eri.ratio_mask(tn_img.shape[:2], gl, dst[mesh.n_landmarks : mesh.n_moving], DLIB68)
+    mask = eri.ratio_mask(tn_img.shape[:2], gl, dst[mesh.forehead], DLIB68)
     centres, radii = muscle.areas(gl, DLIB68)
     h = np.ones(len(centres))
     return {
@@ -80,7 +80,7 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
         "  of which DB on given candidates": median_ms(lambda: metric.choose_lambda(tn_img, mesh, cands, lambdas, se_img, se, default_eigenfaces(), DLIB68), repeat),
         "warp (full image)": median_ms(lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles), repeat),
         "ERI (ratio of two warped photos)": median_ms(lambda: eri.expression_ratio(tn_img, tn_img, mask, iod), repeat),
-        "ERI mask": median_ms(lambda: eri.ratio_mask(tn_img.shape[:2], gl, dst[mesh.n_landmarks : mesh.n_moving], DLIB68), repeat),
+        "ERI mask": median_ms(lambda: eri.ratio_mask(tn_img.shape[:2], gl, dst[mesh.forehead], DLIB68), repeat),
         "MD mask (Eqs. 10-11)": median_ms(lambda: muscle.importance_mask(tn_img.shape[:2], centres, radii, h), repeat),
     }
 

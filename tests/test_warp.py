@@ -1,4 +1,5 @@
 import numpy as np
+import pytest
 
 from exprclone import warp
 from exprclone.layout import DLIB68
@@ -49,7 +50,7 @@ def test_forehead_moves_with_the_brows_and_border_stays(pair):
     brows = list(DLIB68.brows[0] + DLIB68.brows[1])
     raised[brows, 1] -= 10
     ctrl = mesh.control_points(raised)
-    forehead = slice(mesh.n_landmarks, mesh.n_moving)
+    forehead = mesh.forehead
     assert np.allclose(ctrl[forehead] - mesh.points[forehead], (0, -10))
     assert np.array_equal(ctrl[mesh.n_moving :], mesh.points[mesh.n_moving :])
 
@@ -64,3 +65,28 @@ def test_unfold_removes_a_fold(pair):
     fixed, n = warp.unfold(mesh.points, dst, mesh.triangles, mesh.n_moving)
     assert n > 0 and not warp.folded(mesh.points, fixed, mesh.triangles).any()
     assert np.array_equal(fixed[mesh.n_moving :], dst[mesh.n_moving :])  # the border never moves
+
+
+@pytest.mark.parametrize("face_id", ["003", "029", "103"])
+def test_an_opening_mouth_is_stretched_evenly(photo, face_id):
+    """Each column of the new mouth opening samples one point of the closed lip line."""
+    target, lm = photo(face_id)
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    opened = lm.copy()
+    opened[[61, 62, 63], 1] -= 12
+    opened[[65, 66, 67], 1] += 12
+    dst = mesh.control_points(opened)
+    map_x, map_y = warp.inverse_maps(mesh.points, dst, mesh.triangles, target.shape[:2])
+    upper, lower = opened[[61, 62, 63]], opened[[67, 66, 65]]
+    spreads = []
+    for x in range(int(np.ceil(upper[0, 0])), int(upper[2, 0])):
+        top = np.interp(x, upper[:, 0], upper[:, 1]) + 2
+        bottom = np.interp(x, lower[:, 0], lower[:, 1]) - 2
+        column = map_x[int(np.ceil(top)) : int(bottom), x]
+        spreads.append(np.ptp(column))
+        # the column maps into the slit between the closed lips
+        rows = map_y[int(np.ceil(top)) : int(bottom), x]
+        assert rows.min() >= np.interp(x, lm[[61, 62, 63], 0], lm[[61, 62, 63], 1]) - 1
+        assert rows.max() <= np.interp(x, lm[[67, 66, 65], 0], lm[[67, 66, 65], 1]) + 1
+    # each column samples (nearly) one point of the lip line: a vertical smear, no zig-zag
+    assert max(spreads) < 3.0, max(spreads)

@@ -204,7 +204,7 @@ def clone_methods(
         x0, y0, x1, y1 = face_box(dst[: mesh.n_moving], geometry.interocular(final, layout), tgt_img.shape)
         local = dst - (x0, y0)
         neutral, expression = (warp.warp(img, c, local, mesh.triangles, (y1 - y0, x1 - x0)) for img, c in zip((src_neu_img, src_exp_img), source_ctrl))
-        mask = eri.ratio_mask((y1 - y0, x1 - x0), local[: mesh.n_landmarks], local[mesh.n_landmarks : mesh.n_moving], layout)
+        mask = eri.ratio_mask((y1 - y0, x1 - x0), local[: mesh.n_landmarks], local[mesh.forehead], layout)
         ratios[kind] = np.ones(tgt_img.shape[:2], np.float32)
         ratios[kind][y0:y1, x0:x1] = eri.expression_ratio(neutral, expression, mask, geometry.interocular(final, layout))
         boxes[kind] = (slice(y0, y1), slice(x0, x1))

@@ -7,7 +7,11 @@ triangulation of the target's neutral landmarks plus two kinds of extra control 
 * forehead points above the brows, which move with the brows, so the forehead is
   carried along instead of being squeezed between the brows and the hair line;
 * fixed points on the image border, so the whole image moves smoothly and the
-  background stays put.
+  background stays put;
+* a point half-way between each facing pair of inner-lip points, and a triangulation
+  computed on a copy of the face whose closed mouth is slightly opened: the slit
+  between closed lips is then cut into a regular strip of triangles, so a mouth that
+  opens is stretched evenly instead of in the zig-zag of arbitrary slivers.
 
 The warp is vectorised: each output pixel gets the index of its triangle from a label
 image, then the inverse affine map of that triangle; one ``cv2.remap`` samples the
@@ -39,23 +43,31 @@ class Mesh:
     Attributes
     ----------
     points : ndarray of shape (N, 2)
-        Landmarks first, then forehead points, then border points.
+        Landmarks first, then forehead points, then mid-lip points, then border points.
     triangles : ndarray of shape (T, 3)
         Vertex indices into ``points``.
     n_landmarks : int
     brow_of_forehead : ndarray of shape (F,)
         For each forehead point, the brow landmark that carries it.
+    lip_pairs : ndarray of shape (P, 2)
+        For each mid-lip point, the two inner-lip landmarks it lies between.
     """
 
     points: np.ndarray
     triangles: np.ndarray
     n_landmarks: int
     brow_of_forehead: np.ndarray
+    lip_pairs: np.ndarray
+
+    @property
+    def forehead(self) -> slice:
+        """Where the forehead points are in ``points``."""
+        return slice(self.n_landmarks, self.n_landmarks + len(self.brow_of_forehead))
 
     @property
     def n_moving(self) -> int:
-        """Landmarks and forehead points: the vertices that may move."""
-        return self.n_landmarks + len(self.brow_of_forehead)
+        """Landmarks, forehead and mid-lip points: the vertices that may move."""
+        return self.n_landmarks + len(self.brow_of_forehead) + len(self.lip_pairs)
 
     def control_points(self, landmarks: np.ndarray, transform: np.ndarray | None = None) -> np.ndarray:
         """Control points for a new position of the landmarks.
@@ -78,7 +90,8 @@ class Mesh:
         out = mapped.copy()
         out[: self.n_landmarks] = landmarks
         brows = self.brow_of_forehead
-        out[self.n_landmarks : self.n_moving] += landmarks[brows] - mapped[brows]
+        out[self.forehead] += landmarks[brows] - mapped[brows]
+        out[self.forehead.stop : self.n_moving] = landmarks[self.lip_pairs].mean(axis=1)
         return out
 
     def neighbours(self) -> list[np.ndarray]:
@@ -117,15 +130,33 @@ def build_mesh(landmarks: np.ndarray, image_shape: tuple[int, ...], layout: Layo
             np.stack([np.full_like(ys, w - 0.5), ys], 1),
         ]
     )
-    points = np.concatenate([landmarks, forehead, border]).astype(float)
-    # QJ joggles the input so that coincident points (a closed mouth's inner lips)
-    # still become vertices of the triangulation.
-    triangles = Delaunay(points, qhull_options="QJ").simplices.astype(np.int32)
+    pairs = np.array(layout.lip_pairs)
+    points = np.concatenate([landmarks, forehead, landmarks[pairs].mean(axis=1), border]).astype(float)
+    n_moving = len(landmarks) + len(forehead) + len(pairs)
+    # QJ joggles the input so that coincident points still become vertices.
+    triangles = Delaunay(opened_mouth(points, pairs, len(landmarks) + len(forehead), landmarks, layout), qhull_options="QJ").simplices.astype(np.int32)
     # the joggle leaves slivers of zero area along the straight border: drop them
-    on_border = (triangles >= len(landmarks) + len(forehead)).all(axis=1)
+    on_border = (triangles >= n_moving).all(axis=1)
     area = np.abs(signed_areas(points, triangles))
     triangles = triangles[~on_border | (area > 1e-6 * area.max())]
-    return Mesh(points, triangles, len(landmarks), brows)
+    return Mesh(points, triangles, len(landmarks), brows, pairs)
+
+
+def opened_mouth(points: np.ndarray, pairs: np.ndarray, first_mid: int, landmarks: np.ndarray, layout: Layout) -> np.ndarray:
+    """A copy of the control points whose inner lips stand apart, for triangulating.
+
+    Facing inner-lip points closer than a tenth of the mouth's width are pushed apart
+    to that gap along the face's vertical, their mid-lip point between them.
+    """
+    out = points.copy()
+    down = geometry.face_axes(landmarks, layout)[1]
+    i, j = layout.mouth_outer[0], layout.mouth_outer[len(layout.mouth_outer) // 2]
+    gap = 0.1 * np.linalg.norm(landmarks[j] - landmarks[i])
+    for k, (upper, lower) in enumerate(pairs):
+        mid = (points[upper] + points[lower]) / 2
+        half = max(gap, float((points[lower] - points[upper]) @ down)) / 2
+        out[upper], out[lower], out[first_mid + k] = mid - half * down, mid + half * down, mid
+    return out
 
 
 def signed_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
