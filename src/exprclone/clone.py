@@ -80,11 +80,34 @@ def check_image(image: np.ndarray, name: str) -> np.ndarray:
     return image
 
 
-def face_box(points: np.ndarray, iod: float, shape: tuple[int, ...]) -> tuple[int, int, int, int]:
+def padded_box(points: np.ndarray, iod: float, shape: tuple[int, ...]) -> tuple[int, int, int, int]:
     """``(x0, y0, x1, y1)``: the points' bounding box grown by half an inter-ocular distance, inside the image."""
     lo = np.floor(points.min(0) - 0.5 * iod).astype(int)
     hi = np.ceil(points.max(0) + 0.5 * iod).astype(int)
     return max(lo[0], 0), max(lo[1], 0), min(hi[0], shape[1]), min(hi[1], shape[0])
+
+
+def ratio_image(mesh: warp.Mesh, dst: np.ndarray, sources: tuple[np.ndarray, np.ndarray], source_ctrl: list[np.ndarray], shape: tuple[int, ...], layout: Layout) -> tuple[np.ndarray, tuple[slice, slice]]:
+    """The ERI of the source's two photos in the target's final geometry ``dst``.
+
+    The ratio is 1 off the face, so it is computed in the face's box only.
+
+    Returns
+    -------
+    eri : ndarray of shape (H, W)
+        In the target photo's frame.
+    box : tuple of slice
+        Where it may differ from 1.
+    """
+    final = dst[: mesh.n_landmarks]
+    iod = geometry.interocular(final, layout)
+    x0, y0, x1, y1 = padded_box(dst[: mesh.n_moving], iod, shape)
+    local = dst - (x0, y0)
+    neutral, expression = (warp.warp(img, c, local, mesh.triangles, (y1 - y0, x1 - x0)) for img, c in zip(sources, source_ctrl))
+    mask = eri.ratio_mask((y1 - y0, x1 - x0), local[: mesh.n_landmarks], local[mesh.forehead], layout)
+    out = np.ones(shape[:2], np.float32)
+    out[y0:y1, x0:x1] = eri.expression_ratio(neutral, expression, mask, iod)
+    return out, (slice(y0, y1), slice(x0, x1))
 
 
 def clone(
@@ -198,16 +221,7 @@ def clone_methods(
     ]
     ratios, boxes = {}, {}
     for kind in {kinds[m] for m in methods if m.endswith("+eri") or m == "e+md"}:
-        dst = geometry_of[kind][0]
-        final = dst[: mesh.n_landmarks]
-        # the ratio is 1 off the face: compute it in the face's box only
-        x0, y0, x1, y1 = face_box(dst[: mesh.n_moving], geometry.interocular(final, layout), tgt_img.shape)
-        local = dst - (x0, y0)
-        neutral, expression = (warp.warp(img, c, local, mesh.triangles, (y1 - y0, x1 - x0)) for img, c in zip((src_neu_img, src_exp_img), source_ctrl))
-        mask = eri.ratio_mask((y1 - y0, x1 - x0), local[: mesh.n_landmarks], local[mesh.forehead], layout)
-        ratios[kind] = np.ones(tgt_img.shape[:2], np.float32)
-        ratios[kind][y0:y1, x0:x1] = eri.expression_ratio(neutral, expression, mask, geometry.interocular(final, layout))
-        boxes[kind] = (slice(y0, y1), slice(x0, x1))
+        ratios[kind], boxes[kind] = ratio_image(mesh, geometry_of[kind][0], (src_neu_img, src_exp_img), source_ctrl, tgt_img.shape, layout)
 
     def with_details(kind: str, importance: np.ndarray | float = 1.0) -> np.ndarray:
         """Eq. (9) applied in the face box, where the ERI differs from 1."""
