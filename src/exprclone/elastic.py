@@ -46,18 +46,21 @@ def net_force(p: np.ndarray, a: np.ndarray, a_local: np.ndarray, b: np.ndarray, 
         Neighbour positions ``B_i`` (global).
     mask : ndarray of shape (N, K)
         Which neighbour slots are real.
-    lambda_k : float or ndarray of shape (N, 1, 1)
+    lambda_k : float or ndarray of shape (N,)
 
     Returns
     -------
     ndarray of shape (N, M, 2)
     """
-    rest = np.linalg.norm(a[:, None, :] - b, axis=-1)  # (N, K)
-    to_b = b[:, None, :, :] - p[:, :, None, :]  # (N, M, K, 2)
-    length = np.linalg.norm(to_b, axis=-1)
-    stretch = (length - rest[:, None, :]) * mask[:, None, :]
-    f_b = (stretch / np.maximum(length, 1e-12))[..., None] * to_b
-    return f_b.sum(axis=2) + lambda_k * (a_local[:, None, :] - p)
+    rest = np.sqrt(((a[:, None, :] - b) ** 2).sum(-1))[:, None, :]  # (N, 1, K)
+    dx = b[None, :, :, 0].transpose(1, 0, 2) - p[:, :, 0, None]  # (N, M, K): P -> B_i
+    dy = b[None, :, :, 1].transpose(1, 0, 2) - p[:, :, 1, None]
+    length = np.sqrt(dx * dx + dy * dy)
+    coef = (length - rest) * mask[:, None, :] / np.maximum(length, 1e-12)
+    lam = np.asarray(lambda_k, float).reshape(-1, 1)
+    fx = (coef * dx).sum(-1) + lam * (a_local[:, None, 0] - p[:, :, 0])
+    fy = (coef * dy).sum(-1) + lam * (a_local[:, None, 1] - p[:, :, 1])
+    return np.stack([fx, fy], -1)
 
 
 def elastic_landmarks(global_pts: np.ndarray, local_pts: np.ndarray, neighbours: list[np.ndarray], lambda_k: float | np.ndarray) -> np.ndarray:
@@ -84,26 +87,30 @@ def elastic_landmarks(global_pts: np.ndarray, local_pts: np.ndarray, neighbours:
     lambdas = np.atleast_1d(np.asarray(lambda_k, float))
     n_lambda, n = len(lambdas), len(global_pts)
     index, mask = pad_neighbours(neighbours)
-    # every (lambda_k, point) is one independent problem
+    # every (lambda_k, point) is one problem; where A = A' the answer is A
     a, a_local = np.tile(global_pts, (n_lambda, 1)), np.tile(local_pts, (n_lambda, 1))
-    b, mask = np.tile(global_pts[index], (n_lambda, 1, 1)), np.tile(mask, (n_lambda, 1))
-    lam = np.repeat(np.where(np.isinf(lambdas), 0.0, lambdas), n)[:, None, None]
-    lo, hi = np.minimum(a, a_local), np.maximum(a, a_local)
+    solve = np.flatnonzero(np.any(a != a_local, axis=1))
+    a_s, a_local_s = a[solve], a_local[solve]
+    b, mask = np.tile(global_pts[index], (n_lambda, 1, 1))[solve], np.tile(mask, (n_lambda, 1))[solve]
+    lam = np.repeat(np.where(np.isinf(lambdas), 0.0, lambdas), n)[solve]
+    lo, hi = np.minimum(a_s, a_local_s), np.maximum(a_s, a_local_s)
     centre, half = (lo + hi) / 2, (hi - lo) / 2
     steps = np.linspace(-1.0, 1.0, GRID)
     offsets = np.stack(np.meshgrid(steps, steps, indexing="ij"), -1).reshape(-1, 2)  # (M, 2)
     # The window's corners A and A' are candidates of the first pass.
-    best = a.copy()
-    best_norm = np.linalg.norm(net_force(best[:, None], a, a_local, b, mask, lam)[:, 0], axis=-1)
-    rows = np.arange(len(a))
+    best = a_s.copy()
+    best_norm = np.linalg.norm(net_force(best[:, None], a_s, a_local_s, b, mask, lam)[:, 0], axis=-1)
+    rows = np.arange(len(a_s))
     for _ in range(PASSES):
         cand = np.clip(centre[:, None, :] + offsets[None] * half[:, None, :], lo[:, None], hi[:, None])
-        norms = np.linalg.norm(net_force(cand, a, a_local, b, mask, lam), axis=-1)
+        norms = np.linalg.norm(net_force(cand, a_s, a_local_s, b, mask, lam), axis=-1)
         k = norms.argmin(axis=1)
         better = norms[rows, k] < best_norm
         best[better] = cand[rows, k][better]
         best_norm[better] = norms[rows, k][better]
         centre, half = best, half * 2 / (GRID - 1)
+    a[solve] = best
+    best = a
     out = best.reshape(n_lambda, n, 2)
     out[np.isinf(lambdas)] = local_pts  # k_N = 0: only the spring to A' is left
     return out if np.ndim(lambda_k) else out[0]

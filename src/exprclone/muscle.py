@@ -61,7 +61,6 @@ def strengths(source_neutral: np.ndarray, source_expression: np.ndarray, layout:
 def importance_mask(shape: tuple[int, int], centres: np.ndarray, radii: np.ndarray, h: np.ndarray) -> np.ndarray:
     """The detail-importance mask ``M`` of Eq. (10) with ``sigma`` of Eq. (11), ``(H, W)`` float32."""
     rows, cols = shape
-    v, u = np.ogrid[0:rows, 0:cols]
     bump = np.zeros(shape, np.float32)
     for (u0, v0), r, strength in zip(centres, radii, h):
         sigma = r / np.sqrt(np.log(2.0))  # Eq. (11)
@@ -70,7 +69,8 @@ def importance_mask(shape: tuple[int, int], centres: np.ndarray, radii: np.ndarr
         left, right = int(max(0, u0 - reach)), int(min(cols, u0 + reach + 1))
         if top >= bottom or left >= right:
             continue
-        d2 = (u[:, left:right] - u0) ** 2 + (v[top:bottom] - v0) ** 2
-        g = (strength * np.exp(-d2 / (2 * sigma**2))).astype(np.float32)
-        np.maximum(bump[top:bottom, left:right], g, out=bump[top:bottom, left:right])
+        # the 2-D Gaussian is the outer product of two 1-D ones
+        gv = np.exp(-((np.arange(top, bottom) - v0) ** 2) / (2 * sigma**2)).astype(np.float32)
+        gu = np.exp(-((np.arange(left, right) - u0) ** 2) / (2 * sigma**2)).astype(np.float32)
+        np.maximum(bump[top:bottom, left:right], np.float32(strength) * np.outer(gv, gu), out=bump[top:bottom, left:right])
     return 1.0 + bump
