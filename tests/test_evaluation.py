@@ -65,12 +65,17 @@ def test_pairs_are_reproducible_and_of_different_people(london):
 
 
 def test_summary_counts_failures_and_never_drops_them():
+    def row(method, pair, mouth, failed="", strong=0):
+        score = "" if failed else mouth
+        return {"source": pair[0], "target": pair[1], "method": method, "strong": strong, "failed": failed, "overall": score, "mouth": score, "eyes_brows": score, "identity": "" if failed else 0.3 + mouth * 10}
+
     rows = [
-        {"method": "global", "strong": 1, "failed": "", "overall": 0.02, "mouth": 0.03, "eyes_brows": 0.01, "identity": 0.3},
-        {"method": "global", "strong": 0, "failed": "no face found", "overall": "", "mouth": "", "eyes_brows": "", "identity": ""},
-        {"method": "global", "strong": 0, "failed": "", "overall": 0.04, "mouth": 0.05, "eyes_brows": 0.03, "identity": 0.7},
+        row("global", "ab", 0.02, strong=1), row("global", "ac", 0.0, failed="no face found"), row("global", "ad", 0.04),
+        row("e+md", "ab", 0.01, strong=1), row("e+md", "ac", 0.03), row("e+md", "ad", 0.035),
     ]
-    s = summarise(rows)[0]
-    assert s["pairs"] == 3 and s["failed"] == 1
-    assert s["overall_mean"] == pytest.approx(0.03) and s["same_person"] == pytest.approx(0.5)
+    g, e = summarise(rows)
+    assert g["pairs"] == 3 and g["failed"] == 1 and e["failed"] == 0
+    assert g["overall_mean"] == pytest.approx(0.03) and g["same_person"] == pytest.approx(0.5)
+    # paired with global only where both succeeded: (0.01 - 0.02 + 0.035 - 0.04) / 2
+    assert e["mouth_vs_baseline"] == pytest.approx(-0.0075) and g["mouth_vs_baseline"] == 0
     assert summarise(rows, strong_only=True)[0]["pairs"] == 1
