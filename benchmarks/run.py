@@ -75,9 +75,21 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
         "local (landmarks)": median_ms(lambda: local_warp.local_landmarks(gl, se, DLIB68), repeat),
         "elastic (1 lambda)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, 1.0), repeat),
         "lambda search (13 candidates + DB)": median_ms(
-            lambda: metric.choose_lambda(tn_img, mesh, [elastic.elastic_landmarks(gl, lo, nb, lam) for lam in lambdas], lambdas, se_img, se, default_eigenfaces(), DLIB68), repeat
+            lambda: metric.choose_lambda(
+                tn_img,
+                mesh,
+                [elastic.elastic_landmarks(gl, lo, nb, lam) for lam in lambdas],
+                lambdas,
+                se_img,
+                se,
+                default_eigenfaces(),
+                DLIB68,
+            ),
+            repeat,
         ),
-        "  of which DB on given candidates": median_ms(lambda: metric.choose_lambda(tn_img, mesh, cands, lambdas, se_img, se, default_eigenfaces(), DLIB68), repeat),
+        "  of which DB on given candidates": median_ms(
+            lambda: metric.choose_lambda(tn_img, mesh, cands, lambdas, se_img, se, default_eigenfaces(), DLIB68), repeat
+        ),
         "warp (full image)": median_ms(lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles), repeat),
         "ERI (ratio of two warped photos)": median_ms(lambda: eri.expression_ratio(tn_img, tn_img, mask, iod), repeat),
         "ERI mask": median_ms(lambda: eri.ratio_mask(tn_img.shape[:2], gl, dst[mesh.forehead], DLIB68), repeat),
@@ -155,7 +167,11 @@ def main() -> None:
         images, lms = photos(data, size)
         show(f"stages at {size}x{size}", stages(images, lms, args.repeat))
         show(f"methods end to end at {size}x{size} (landmarks known unless said)", methods(images, lms, args.repeat))
-        show(f"piecewise-affine warp at {size}x{size}, ratio to the bare remap", warp_peers(images, lms, args.repeat), "bare cv2.remap, maps precomputed")
+        show(
+            f"piecewise-affine warp at {size}x{size}, ratio to the bare remap",
+            warp_peers(images, lms, args.repeat),
+            "bare cv2.remap, maps precomputed",
+        )
     if not args.quick:
         sweep = {}
         for size in (256, 512, 1024, 2048):

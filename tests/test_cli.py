@@ -35,8 +35,26 @@ def test_clone_with_given_landmarks_and_fixed_lambda(pair, tmp_path):
         files.append(tmp_path / f"{name}.json")
         files[-1].write_text(json.dumps({"landmarks": lm.tolist()}))
     out, record = tmp_path / "out.jpg", tmp_path / "out.json"
-    p = run("clone", SN, SE, TN, "-o", out, "--method", "local+eri", "--lambda", "3", "--save-json", record,
-            "--source-neutral-landmarks", files[0], "--source-expression-landmarks", files[1], "--target-neutral-landmarks", files[2])
+    p = run(
+        "clone",
+        SN,
+        SE,
+        TN,
+        "-o",
+        out,
+        "--method",
+        "local+eri",
+        "--lambda",
+        "3",
+        "--save-json",
+        record,
+        "--source-neutral-landmarks",
+        files[0],
+        "--source-expression-landmarks",
+        files[1],
+        "--target-neutral-landmarks",
+        files[2],
+    )
     assert p.returncode == 0, p.stderr
     data = json.loads(record.read_text())
     assert np.allclose(data["landmarks"]["target_neutral"], landmarks[2], atol=1e-3)

@@ -67,11 +67,25 @@ def test_pairs_are_reproducible_and_of_different_people(london):
 def test_summary_counts_failures_and_never_drops_them():
     def row(method, pair, mouth, failed="", strong=0):
         score = "" if failed else mouth
-        return {"source": pair[0], "target": pair[1], "method": method, "strong": strong, "failed": failed, "overall": score, "mouth": score, "eyes_brows": score, "identity": "" if failed else 0.3 + mouth * 10}
+        return {
+            "source": pair[0],
+            "target": pair[1],
+            "method": method,
+            "strong": strong,
+            "failed": failed,
+            "overall": score,
+            "mouth": score,
+            "eyes_brows": score,
+            "identity": "" if failed else 0.3 + mouth * 10,
+        }
 
     rows = [
-        row("global", "ab", 0.02, strong=1), row("global", "ac", 0.0, failed="no face found"), row("global", "ad", 0.04),
-        row("e+md", "ab", 0.01, strong=1), row("e+md", "ac", 0.03), row("e+md", "ad", 0.035),
+        row("global", "ab", 0.02, strong=1),
+        row("global", "ac", 0.0, failed="no face found"),
+        row("global", "ad", 0.04),
+        row("e+md", "ab", 0.01, strong=1),
+        row("e+md", "ac", 0.03),
+        row("e+md", "ad", 0.035),
     ]
     g, e = summarise(rows)
     assert g["pairs"] == 3 and g["failed"] == 1 and e["failed"] == 0

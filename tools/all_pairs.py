@@ -34,9 +34,17 @@ def run_pair(job):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            results = clone_methods(photo(sn), photo(se), photo(tn), landmarks=(landmarks[a, "n"], landmarks[a, "s"], landmarks[b, "n"]), names=(sn, se, tn))
+            results = clone_methods(
+                photo(sn), photo(se), photo(tn), landmarks=(landmarks[a, "n"], landmarks[a, "s"], landmarks[b, "n"]), names=(sn, se, tn)
+            )
         bad = [m for m, r in results.items() if r.image.shape != photo(tn).shape or not np.isfinite(r.image).all()]
-        return a, b, None if not bad else f"bad output for {bad}", max(r.unfolded_points for r in results.values()), results["e+md"].lambda_k
+        return (
+            a,
+            b,
+            None if not bad else f"bad output for {bad}",
+            max(r.unfolded_points for r in results.values()),
+            results["e+md"].lambda_k,
+        )
     except Exception as e:  # a failure is counted, never hidden
         return a, b, f"{type(e).__name__}: {e}", 0, None
 
@@ -60,7 +68,9 @@ def main() -> None:
     start = time.time()
     failures, unfolded, lambdas = [], 0, collections.Counter()
     with multiprocessing.get_context("fork").Pool(args.jobs) as pool:
-        for k, (a, b, error, n_unfolded, lam) in enumerate(pool.imap_unordered(run_pair, [((a, b), paths, landmarks) for a, b in pairs], chunksize=4), 1):
+        for k, (a, b, error, n_unfolded, lam) in enumerate(
+            pool.imap_unordered(run_pair, [((a, b), paths, landmarks) for a, b in pairs], chunksize=4), 1
+        ):
             if error:
                 failures.append((a, b, error))
                 print(f"FAIL {a} -> {b}: {error}", flush=True)
@@ -68,7 +78,10 @@ def main() -> None:
             lambdas[lam] += 1
             if k % 200 == 0:
                 print(f"{k}/{len(pairs)} pairs, {time.time() - start:.0f} s", flush=True)
-    print(f"{len(pairs)} ordered pairs x {len(METHODS)} methods in {time.time() - start:.0f} s: {len(failures)} failures; {unfolded} pairs needed unfolding")
+    elapsed = time.time() - start
+    print(
+        f"{len(pairs)} ordered pairs x {len(METHODS)} methods in {elapsed:.0f} s: {len(failures)} failures; {unfolded} pairs needed unfolding"
+    )
     print("e+md lambda_k chosen:", ", ".join(f"{k}: {v}" for k, v in sorted(lambdas.items(), key=lambda kv: (kv[0] is None, kv[0] or 0))))
 
 

@@ -39,7 +39,10 @@ def main() -> None:
             cell(crop(se, lm["source_expression"]), f"A={a} smile"),
             cell(crop(tn, lm["target_neutral"]), f"B={b} neutral"),
         ]
-        cells += [cell(crop(results[m].image, lm["target_neutral"]), m + (f" lambda={lam:g}" if m in ("elastic", "e+md") else "")) for m in METHODS]
+        cells += [
+            cell(crop(results[m].image, lm["target_neutral"]), m + (f" lambda={lam:g}" if m in ("elastic", "e+md") else ""))
+            for m in METHODS
+        ]
         cells.append(cell(crop(ts, default_detector().detect(ts)), f"B={b} real smile"))
         rows.append(np.hstack(cells))
         print(f"{a} -> {b}: lambda_k={lam:g}", flush=True)

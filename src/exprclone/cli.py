@@ -36,10 +36,23 @@ def add_inputs(p: argparse.ArgumentParser) -> None:
     p.add_argument("source_neutral", help="photo of the source person, neutral")
     p.add_argument("source_expression", help="photo of the source person with the expression")
     p.add_argument("target_neutral", help="photo of the target person, neutral")
-    p.add_argument("--lambda", dest="lambda_k", type=lambda_arg, default="auto", metavar="auto|FLOAT", help="elasticity ratio k_A'/k_N; auto picks it by the DB metric (default)")
+    p.add_argument(
+        "--lambda",
+        dest="lambda_k",
+        type=lambda_arg,
+        default="auto",
+        metavar="auto|FLOAT",
+        help="elasticity ratio k_A'/k_N; auto picks it by the DB metric (default)",
+    )
     for which in ("source-neutral", "source-expression", "target-neutral"):
-        p.add_argument(f"--{which}-landmarks", metavar="FILE", help=f"landmarks of the {which.replace('-', ' ')} photo (.json, or a WebMorph .tem) instead of detecting them")
-    p.add_argument("--eigenfaces", metavar="PATH", help="eigenface basis for the DB metric: a .npz, or a folder of face photos to train one on")
+        p.add_argument(
+            f"--{which}-landmarks",
+            metavar="FILE",
+            help=f"landmarks of the {which.replace('-', ' ')} photo (.json, or a WebMorph .tem) instead of detecting them",
+        )
+    p.add_argument(
+        "--eigenfaces", metavar="PATH", help="eigenface basis for the DB metric: a .npz, or a folder of face photos to train one on"
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -57,7 +70,11 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
     e = sub.add_parser("evaluate", help="score every method against real smiles on many pairs")
     london = os.path.join(os.environ.get("EXPRCLONE_DATA", "../shared/data"), "london")
-    e.add_argument("--data", default=london, help=f"folder with neutral_front/ID_03.jpg and smiling_front/ID_08.jpg (default: {london}, from $EXPRCLONE_DATA)")
+    e.add_argument(
+        "--data",
+        default=london,
+        help=f"folder with neutral_front/ID_03.jpg and smiling_front/ID_08.jpg (default: {london}, from $EXPRCLONE_DATA)",
+    )
     e.add_argument("--pairs", type=int, default=50, help="ordered pairs of different people, drawn with --seed (0: all; default 50)")
     e.add_argument("--seed", type=int, default=0)
     e.add_argument("--methods", default="all", help="comma-separated methods, or all (default)")
@@ -74,7 +91,9 @@ def result_json(result, inputs: list[str]) -> dict:
         "inputs": dict(zip(("source_neutral", "source_expression", "target_neutral"), inputs)),
         "method": result.method,
         "lambda_k": number(result.lambda_k),
-        "db_curve": None if curve is None else [{"lambda_k": number(float(lam)), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],
+        "db_curve": None
+        if curve is None
+        else [{"lambda_k": number(float(lam)), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],
         "muscle_strengths": None if result.muscle_strengths is None else [float(h) for h in result.muscle_strengths],
         "unfolded_points": result.unfolded_points,
         "landmarks": {k: v.round(3).tolist() for k, v in result.landmarks.items()},
@@ -122,7 +141,14 @@ def run_clone(args: argparse.Namespace) -> None:
     if args.save_json:
         check_output_path(args.save_json, inputs + [args.output], extensions=[".json"])
     inputs, images, landmarks = load_inputs(args)
-    result = clone(*images, method=args.method, lambda_k=args.lambda_k, landmarks=landmarks, eigenfaces=load_eigenfaces(args.eigenfaces), names=tuple(inputs))
+    result = clone(
+        *images,
+        method=args.method,
+        lambda_k=args.lambda_k,
+        landmarks=landmarks,
+        eigenfaces=load_eigenfaces(args.eigenfaces),
+        names=tuple(inputs),
+    )
     save_image(args.output, result.image, inputs=inputs)
     if args.save_json:
         record = json.dumps(result_json(result, inputs), indent=1).encode()
@@ -138,7 +164,9 @@ def run_compare(args: argparse.Namespace) -> None:
 
     check_output_path(args.output, [args.source_neutral, args.source_expression, args.target_neutral])
     inputs, images, landmarks = load_inputs(args)
-    results = clone_methods(*images, lambda_k=args.lambda_k, landmarks=landmarks, eigenfaces=load_eigenfaces(args.eigenfaces), names=tuple(inputs))
+    results = clone_methods(
+        *images, lambda_k=args.lambda_k, landmarks=landmarks, eigenfaces=load_eigenfaces(args.eigenfaces), names=tuple(inputs)
+    )
     save_image(args.output, sheet(results, images[1]), inputs=inputs)
     print(f"{args.output}: 7 methods, lambda_k={results['e+md'].lambda_k:g}")
 

@@ -87,7 +87,14 @@ def padded_box(points: np.ndarray, iod: float, shape: tuple[int, ...]) -> tuple[
     return max(lo[0], 0), max(lo[1], 0), min(hi[0], shape[1]), min(hi[1], shape[0])
 
 
-def ratio_image(mesh: warp.Mesh, dst: np.ndarray, sources: tuple[np.ndarray, np.ndarray], source_ctrl: list[np.ndarray], shape: tuple[int, ...], layout: Layout) -> tuple[np.ndarray, tuple[slice, slice]]:
+def ratio_image(
+    mesh: warp.Mesh,
+    dst: np.ndarray,
+    sources: tuple[np.ndarray, np.ndarray],
+    source_ctrl: list[np.ndarray],
+    shape: tuple[int, ...],
+    layout: Layout,
+) -> tuple[np.ndarray, tuple[slice, slice]]:
     """The ERI of the source's two photos in the target's final geometry ``dst``.
 
     The ratio is 1 off the face, so it is computed in the face's box only.
@@ -216,8 +223,7 @@ def clone_methods(
 
     # ERI: both source photos warped to the target's final geometry (Liu et al.)
     source_ctrl = [
-        mesh.control_points(p, geometry.fit_similarity(t_neu[list(layout.rigid)], p[list(layout.rigid)]))
-        for p in (s_neu, s_exp)
+        mesh.control_points(p, geometry.fit_similarity(t_neu[list(layout.rigid)], p[list(layout.rigid)])) for p in (s_neu, s_exp)
     ]
     ratios, boxes = {}, {}
     for kind in {kinds[m] for m in methods if m.endswith("+eri") or m == "e+md"}:
@@ -237,7 +243,9 @@ def clone_methods(
         lm = dict(stages, final=dst[: mesh.n_landmarks])
         if kind != "elastic":
             lm.pop("elastic", None)
-        r = CloneResult(fi[kind], m, lm, chosen if kind == "elastic" else None, curve if kind == "elastic" else None, unfolded_points=n_fixed)
+        r = CloneResult(
+            fi[kind], m, lm, chosen if kind == "elastic" else None, curve if kind == "elastic" else None, unfolded_points=n_fixed
+        )
         if m == "e+md":
             centres, radii = muscle.areas(lm["final"], layout)
             r.muscle_strengths = muscle.strengths(s_neu, global_warp.remove_head_motion(s_neu, s_exp, layout), layout)

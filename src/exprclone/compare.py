@@ -18,7 +18,14 @@ from .clone import METHODS, CloneResult
 from .metric import DBCurve
 
 CELL = 320
-FIG13 = (("local", "global"), ("elastic", "global"), ("global+eri", "global"), ("local+eri", "global+eri"), ("elastic+eri", "global+eri"), ("e+md", "elastic+eri"))
+FIG13 = (
+    ("local", "global"),
+    ("elastic", "global"),
+    ("global+eri", "global"),
+    ("local+eri", "global+eri"),
+    ("elastic+eri", "global+eri"),
+    ("e+md", "elastic+eri"),
+)
 
 
 def face_box(landmarks: np.ndarray, shape: tuple[int, ...]) -> tuple[slice, slice]:

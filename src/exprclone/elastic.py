@@ -28,7 +28,9 @@ def pad_neighbours(neighbours: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray
     return index, mask
 
 
-def net_force(p: np.ndarray, a: np.ndarray, a_local: np.ndarray, b: np.ndarray, mask: np.ndarray, lambda_k: float | np.ndarray) -> np.ndarray:
+def net_force(
+    p: np.ndarray, a: np.ndarray, a_local: np.ndarray, b: np.ndarray, mask: np.ndarray, lambda_k: float | np.ndarray
+) -> np.ndarray:
     """Net spring force on candidate positions, in units of ``k_N`` (Eqs. 3, 4, 6).
 
     ``F_Bi(P) = k_N * dl_Bi(P) * e_Bi(P)`` with ``dl_Bi(P) = |P - B_i| - |A - B_i|`` (zero
@@ -63,7 +65,9 @@ def net_force(p: np.ndarray, a: np.ndarray, a_local: np.ndarray, b: np.ndarray, 
     return np.stack([fx, fy], -1)
 
 
-def elastic_landmarks(global_pts: np.ndarray, local_pts: np.ndarray, neighbours: list[np.ndarray], lambda_k: float | np.ndarray) -> np.ndarray:
+def elastic_landmarks(
+    global_pts: np.ndarray, local_pts: np.ndarray, neighbours: list[np.ndarray], lambda_k: float | np.ndarray
+) -> np.ndarray:
     """``P_opt`` for every landmark, Eq. (5), by a refining grid search in the window.
 
     All points are solved at once (vectorised), and so are several ``lambda_k``; each

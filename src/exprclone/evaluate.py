@@ -49,7 +49,11 @@ class Dataset:
     @classmethod
     def open(cls, root: str | os.PathLike) -> "Dataset":
         root = Path(root)
-        ids = tuple(sorted(p.name[:3] for p in (root / "neutral_front").glob("*_03.jpg") if (root / "smiling_front" / f"{p.name[:3]}_08.jpg").is_file()))
+        ids = tuple(
+            sorted(
+                p.name[:3] for p in (root / "neutral_front").glob("*_03.jpg") if (root / "smiling_front" / f"{p.name[:3]}_08.jpg").is_file()
+            )
+        )
         if len(ids) < 2:
             raise ExprCloneError(f"{root}: needs neutral_front/ID_03.jpg and smiling_front/ID_08.jpg for at least two people")
         return cls(root, ids)
@@ -98,11 +102,16 @@ def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], l
     truth = landmarks[ts]
     target_descriptor = _descriptor()(_photo(tn), landmarks[tn])
     strong = smile_strength(landmarks[tn], truth) >= STRONG_SMILE
-    candidates: dict[str, tuple[np.ndarray | None, str, float | None]] = {"no change": (_photo(tn), "", None), "real": (_photo(ts), "", None)}
+    candidates: dict[str, tuple[np.ndarray | None, str, float | None]] = {
+        "no change": (_photo(tn), "", None),
+        "real": (_photo(ts), "", None),
+    }
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            results = clone_methods(_photo(sn), _photo(se), _photo(tn), methods, landmarks=(landmarks[sn], landmarks[se], landmarks[tn]), names=(sn, se, tn))
+            results = clone_methods(
+                _photo(sn), _photo(se), _photo(tn), methods, landmarks=(landmarks[sn], landmarks[se], landmarks[tn]), names=(sn, se, tn)
+            )
         candidates.update({m: (r.image, "", r.lambda_k) for m, r in results.items()})
     except Exception as e:  # counted as a failure of every method, never dropped
         candidates.update({m: (None, f"{type(e).__name__}: {e}", None) for m in methods})
@@ -113,7 +122,13 @@ def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], l
         if image is not None:
             images[method] = image
             try:
-                found = landmarks[ts] if method == "real" else landmarks[tn] if method == "no change" else default_detector().detect(image, f"{method} result")
+                found = (
+                    landmarks[ts]
+                    if method == "real"
+                    else landmarks[tn]
+                    if method == "no change"
+                    else default_detector().detect(image, f"{method} result")
+                )
                 row.update(landmark_error(found, truth, DLIB68))
                 row["identity"] = identity_distance(_descriptor()(image, found), target_descriptor)
             except ExprCloneError as e:
@@ -192,11 +207,23 @@ def summarise(rows: list[dict], strong_only: bool = False, baseline: str = "glob
 
 def table(summary: list[dict]) -> str:
     """A Markdown table of :func:`summarise`'s output."""
-    head = "| method | pairs | failed | landmark error mean / median | mouth mean / median | mouth minus global, paired (± s.e.) | eyes+brows mean / median | identity mean / median | identity < 0.6 |"
-    lines = [head, "|" + "---|" * 9]
+    columns = [
+        "method",
+        "pairs",
+        "failed",
+        "landmark error mean / median",
+        "mouth mean / median",
+        "mouth minus global, paired (± s.e.)",
+        "eyes+brows mean / median",
+        "identity mean / median",
+        "identity < 0.6",
+    ]
+    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     for s in summary:
         cell = lambda k: f"{s[k + '_mean']:.4f} / {s[k + '_median']:.4f}"  # noqa: E731
-        lines.append(f"| {s['method']} | {s['pairs']} | {s['failed']} | {cell('overall')} | {cell('mouth')} | {s['mouth_vs_baseline']:+.4f} ± {s['mouth_vs_baseline_se']:.4f} | {cell('eyes_brows')} | {cell('identity')} | {100 * s['same_person']:.0f}% |")
+        paired = f"{s['mouth_vs_baseline']:+.4f} ± {s['mouth_vs_baseline_se']:.4f}"
+        values = [s["method"], s["pairs"], s["failed"], cell("overall"), cell("mouth"), paired, cell("eyes_brows"), cell("identity")]
+        lines.append("| " + " | ".join(map(str, values)) + f" | {100 * s['same_person']:.0f}% |")
     return "\n".join(lines)
 
 
@@ -214,8 +241,10 @@ def write_report(out: Path, data: Dataset, rows: list[dict], methods: tuple[str,
         "",
         f"`{command}`",
         "",
-        f"{n_pairs} ordered pairs of different people from `{data.root}`; each method's result is scored against the target's real smile.",
-        "Landmark errors are in outer-eye-corner distances after similarity alignment; identity is dlib's face-descriptor distance to the target's neutral photo (same person below 0.6).",
+        f"{n_pairs} ordered pairs of different people from `{data.root}`;",
+        "each method's result is scored against the target's real smile. Landmark errors are in",
+        "outer-eye-corner distances after similarity alignment; identity is dlib's face-descriptor",
+        "distance to the target's neutral photo (same person below 0.6).",
         "",
         "## All pairs",
         "",
@@ -244,10 +273,24 @@ def _gallery(out: Path, data: Dataset, rows: list[dict], method: str) -> str | N
     strips = []
     for name, r in picks.items():
         _, images = score_pair(data, (r["source"], r["target"]), (method,), _landmarks_for(data, r))
-        cells = [_photo(data.path(r["source"], True)), _photo(data.path(r["target"], False)), images[method], _photo(data.path(r["target"], True))]
+        cells = [
+            _photo(data.path(r["source"], True)),
+            _photo(data.path(r["target"], False)),
+            images[method],
+            _photo(data.path(r["target"], True)),
+        ]
         cells = [cv2.resize(c, (360, 360), interpolation=cv2.INTER_AREA) for c in cells]
         strip = np.hstack(cells)
-        cv2.putText(strip, f"{name}: {r['source']} -> {r['target']}, mouth error {r['mouth']:.4f}", (8, 24), cv2.FONT_HERSHEY_SIMPLEX, 0.7, (255, 255, 255), 2, cv2.LINE_AA)
+        cv2.putText(
+            strip,
+            f"{name}: {r['source']} -> {r['target']}, mouth error {r['mouth']:.4f}",
+            (8, 24),
+            cv2.FONT_HERSHEY_SIMPLEX,
+            0.7,
+            (255, 255, 255),
+            2,
+            cv2.LINE_AA,
+        )
         strips.append(strip)
     save_image(out / "gallery.jpg", np.vstack(strips))
     return "gallery.jpg"

@@ -89,6 +89,7 @@ FRL189_TO_DLIB68 = (
     ((100, 0.85), (96, 0.15)),  # 67
 )
 
+
 def frl_to_68(points189: np.ndarray) -> np.ndarray:
     """The 68 dlib-layout landmarks of a 189-point template, ``(189, 2)`` -> ``(68, 2)``."""
     points189 = np.asarray(points189, float)

@@ -64,10 +64,7 @@ def load_image(path: PathLike) -> np.ndarray:
     with image:
         width, height = image.size
         if min(width, height) < MIN_SIDE:
-            raise ExprCloneError(
-                f"{path}: image is too small ({width}x{height} pixels; "
-                f"at least {MIN_SIDE} on each side needed)"
-            )
+            raise ExprCloneError(f"{path}: image is too small ({width}x{height} pixels; at least {MIN_SIDE} on each side needed)")
         notes = []
         if image.mode in ("RGB", "RGBA") and ";16" in rawmode:
             image.frombytes(_read_16bit_colour(path, image).tobytes())

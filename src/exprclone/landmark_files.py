@@ -69,7 +69,7 @@ def read_landmarks(path: str | os.PathLike, image_shape: tuple[int, ...], n_poin
         except (TypeError, ValueError):
             points = np.empty((0,))
         if points.ndim != 2 or points.shape[1:] != (2,):
-            raise ExprCloneError(f"{path}: expected a list of [x, y] pairs (or {{\"landmarks\": [...]}})")
+            raise ExprCloneError(f'{path}: expected a list of [x, y] pairs (or {{"landmarks": [...]}})')
     return check_points(points, image_shape, n_points, str(path))
 
 

@@ -51,7 +51,9 @@ class DBCurve:
     best: float
 
 
-def db_metric(e_candidates: np.ndarray, e_source_exp: np.ndarray, e_target_gl: np.ndarray, omega_db: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def db_metric(
+    e_candidates: np.ndarray, e_source_exp: np.ndarray, e_target_gl: np.ndarray, omega_db: float = 1.0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Eq. (7) for each candidate feature vector, distances in units of ``sqrt(2 K)``.
 
     Parameters

@@ -134,7 +134,9 @@ def build_mesh(landmarks: np.ndarray, image_shape: tuple[int, ...], layout: Layo
     points = np.concatenate([landmarks, forehead, landmarks[pairs].mean(axis=1), border]).astype(float)
     n_moving = len(landmarks) + len(forehead) + len(pairs)
     # QJ joggles the input so that coincident points still become vertices.
-    triangles = Delaunay(opened_mouth(points, pairs, len(landmarks) + len(forehead), landmarks, layout), qhull_options="QJ").simplices.astype(np.int32)
+    triangles = Delaunay(
+        opened_mouth(points, pairs, len(landmarks) + len(forehead), landmarks, layout), qhull_options="QJ"
+    ).simplices.astype(np.int32)
     # the joggle leaves slivers of zero area along the straight border: drop them
     on_border = (triangles >= n_moving).all(axis=1)
     area = np.abs(signed_areas(points, triangles))
@@ -257,7 +259,9 @@ def inverse_maps(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_sh
     return maps[0], maps[1]
 
 
-def warp(image: np.ndarray, src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_shape: tuple[int, int] | None = None) -> np.ndarray:
+def warp(
+    image: np.ndarray, src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_shape: tuple[int, int] | None = None
+) -> np.ndarray:
     """Warp ``image`` so that control points ``src`` move to ``dst``.
 
     Parameters
