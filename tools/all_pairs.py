@@ -79,9 +79,8 @@ def main() -> None:
             if k % 200 == 0:
                 print(f"{k}/{len(pairs)} pairs, {time.time() - start:.0f} s", flush=True)
     elapsed = time.time() - start
-    print(
-        f"{len(pairs)} ordered pairs x {len(METHODS)} methods in {elapsed:.0f} s: {len(failures)} failures; {unfolded} pairs needed unfolding"
-    )
+    print(f"{len(pairs)} ordered pairs x {len(METHODS)} methods in {elapsed:.0f} s:", end=" ")
+    print(f"{len(failures)} failures; {unfolded} pairs needed unfolding")
     print("e+md lambda_k chosen:", ", ".join(f"{k}: {v}" for k, v in sorted(lambdas.items(), key=lambda kv: (kv[0] is None, kv[0] or 0))))
 
 
