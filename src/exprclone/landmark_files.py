@@ -16,22 +16,46 @@ TEM_POINTS = 189
 
 
 def read_tem(path: str | os.PathLike) -> np.ndarray:
-    """The points of a ``.tem`` template: first line the count, then one ``x y`` line each.
+    """The points of a 189-point Face Research Lab ``.tem`` template.
 
-    The line definitions that follow the points are ignored.
+    The file holds the point count on its first line, then one ``x y`` line per point (tab
+    or space separated, pixels); the line definitions that follow are ignored.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.tem`` file.
 
     Returns
     -------
-    ndarray of shape (n, 2)
+    ndarray of shape (189, 2), float64
+        Points (x, y) in template order; points 0 and 1 are the pupils.
+
+    Raises
+    ------
+    ExprCloneError
+        Missing or unreadable file, a malformed count or point line, a count other than
+        189, or a NaN or infinite coordinate; the message names the file.
     """
-    lines = _read_text(path).split("\n")
-    try:
-        count = int(lines[0].strip())
-        points = np.array([[float(v) for v in lines[1 + k].split()[:2]] for k in range(count)])
-    except (ValueError, IndexError):
-        raise ExprCloneError(f"{path}: not a .tem template (a point count, then one 'x y' line per point)") from None
-    if points.shape != (count, 2):
-        raise ExprCloneError(f"{path}: not a .tem template (a point line lacks its y)")
+    lines = _read_text(path).splitlines()
+    header = lines[0].strip() if lines else ""
+    if not header.isdigit():
+        raise ExprCloneError(f"{path}: not a .tem template (the first line must be the point count, got {header!r})")
+    count = int(header)
+    if count != TEM_POINTS:
+        raise ExprCloneError(f"{path}: {count} template points, expected the {TEM_POINTS}-point Face Research Lab template")
+    if len(lines) <= count:
+        raise ExprCloneError(f"{path}: not a .tem template (found {len(lines) - 1} point lines, expected {count})")
+    points = np.empty((count, 2))
+    for k in range(count):
+        fields = lines[1 + k].split()
+        try:
+            if len(fields) != 2:
+                raise ValueError
+            points[k] = [float(fields[0]), float(fields[1])]
+        except ValueError:
+            raise ExprCloneError(f"{path}: not a .tem template (line {k + 2} should be 'x y', got {lines[1 + k]!r})") from None
+    _check_finite(points, str(path))
     return points
 
 
@@ -39,68 +63,141 @@ def read_landmarks(path: str | os.PathLike, image_shape: tuple[int, ...], n_poin
     """Landmarks for a photo of shape ``image_shape`` from a ``.json`` or ``.tem`` file.
 
     JSON holds ``{"landmarks": [[x, y], ...]}`` (what :func:`write_landmarks` writes) or a
-    plain list of ``[x, y]`` pairs; a ``.tem`` must be a 189-point Face Research Lab
-    template, mapped to the 68-point layout by :func:`exprclone.frl_template.frl_to_68`.
+    plain list of ``[x, y]`` pairs. A ``.tem`` must be a 189-point Face Research Lab
+    template; it is mapped to the 68-point layout by :func:`exprclone.frl_template.frl_to_68`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The landmark file; its extension (``.json`` or ``.tem``) selects the format.
+    image_shape : tuple of int
+        Shape ``(H, W, ...)`` of the photo the landmarks belong to.
+    n_points : int
+        Number of landmarks expected.
 
     Returns
     -------
-    ndarray of shape (n_points, 2)
+    ndarray of shape (n_points, 2), float64
+        Landmarks (x, y) in pixels.
 
     Raises
     ------
     ExprCloneError
-        Unreadable file, wrong structure, wrong number of points, NaN, or points
-        outside the image; the message names the file.
+        Missing or unreadable file, unknown extension, invalid JSON, wrong structure, wrong
+        number of points, NaN or infinite values, or points outside the image; the message
+        names the file.
     """
-    if str(path).lower().endswith(".tem"):
-        points = read_tem(path)
-        if len(points) != TEM_POINTS:
-            raise ExprCloneError(f"{path}: {len(points)} template points, expected the {TEM_POINTS}-point Face Research Lab template")
-        points = frl_to_68(points)
+    extension = os.path.splitext(path)[1].lower()
+    if extension == ".tem":
+        points = frl_to_68(read_tem(path))
+    elif extension == ".json":
+        points = _read_json_points(path)
     else:
-        try:
-            data = json.loads(_read_text(path))
-        except json.JSONDecodeError as e:
-            raise ExprCloneError(f"{path}: invalid JSON ({e.msg} at line {e.lineno})") from None
-        if isinstance(data, dict):
-            data = data.get("landmarks")
-        try:
-            points = np.array(data, dtype=float)
-        except (TypeError, ValueError):
-            points = np.empty((0,))
-        if points.ndim != 2 or points.shape[1:] != (2,):
-            raise ExprCloneError(f'{path}: expected a list of [x, y] pairs (or {{"landmarks": [...]}})')
+        raise ExprCloneError(f"{path}: unknown landmark file type {extension!r} (use .json or .tem)")
     return check_points(points, image_shape, n_points, str(path))
 
 
 def check_points(points: np.ndarray, image_shape: tuple[int, ...], n_points: int, name: str) -> np.ndarray:
-    """``points`` as an ``(n_points, 2)`` float array inside the image, or ExprCloneError naming ``name``."""
-    points = np.asarray(points, float)
-    if points.ndim != 2 or points.shape[1:] != (2,) or len(points) != n_points:
-        found = len(points) if points.ndim == 2 else f"an array of shape {points.shape}"
-        raise ExprCloneError(f"{name}: {found} landmarks, expected {n_points} (x, y) pairs")
+    """Landmarks checked for count, finiteness and position inside the image.
+
+    Parameters
+    ----------
+    points : array_like of shape (n_points, 2)
+        Landmarks (x, y) in pixels.
+    image_shape : tuple of int
+        Shape ``(H, W, ...)`` of the photo; points must lie in ``[0, W - 1] x [0, H - 1]``.
+    n_points : int
+        Number of landmarks expected.
+    name : str
+        How to name the landmarks' source in messages (a file path).
+
+    Returns
+    -------
+    ndarray of shape (n_points, 2), float64
+
+    Raises
+    ------
+    ExprCloneError
+        Wrong shape or count, a NaN or infinite value, or a point outside the image.
+    """
+    points = np.asarray(points, dtype=np.float64)
+    if points.ndim != 2 or points.shape[1] != 2 or len(points) != n_points:
+        found = f"{len(points)} landmarks" if points.ndim == 2 and points.shape[1] == 2 else f"an array of shape {points.shape}"
+        raise ExprCloneError(f"{name}: found {found}, expected {n_points} (x, y) pairs")
+    _check_finite(points, name)
     h, w = image_shape[:2]
-    bad = ~np.isfinite(points).all(1) | (points[:, 0] < 0) | (points[:, 0] > w - 1) | (points[:, 1] < 0) | (points[:, 1] > h - 1)
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
+    outside = (points[:, 0] < 0) | (points[:, 0] > w - 1) | (points[:, 1] < 0) | (points[:, 1] > h - 1)
+    if outside.any():
+        i = int(np.flatnonzero(outside)[0])
         x, y = points[i]
         raise ExprCloneError(f"{name}: landmark {i} at ({x:g}, {y:g}) is outside the {w}x{h} image")
     return points
 
 
 def write_landmarks(path: str | os.PathLike, landmarks: np.ndarray) -> None:
-    """Write ``{"landmarks": [[x, y], ...]}`` atomically."""
-    text = json.dumps({"landmarks": np.asarray(landmarks, float).round(3).tolist()}).encode()
+    """Write landmarks as JSON ``{"landmarks": [[x, y], ...]}``, atomically.
+
+    Coordinates are written at full float64 precision, so :func:`read_landmarks` gives
+    back exactly the same values.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.json`` file to write; it is replaced only once the new content is complete.
+    landmarks : array_like of shape (N, 2)
+        Landmarks (x, y) in pixels, all finite.
+
+    Raises
+    ------
+    ValueError
+        If ``landmarks`` is not an (N, 2) array of finite numbers.
+    ExprCloneError
+        If the file cannot be written.
+    """
+    landmarks = np.asarray(landmarks, dtype=np.float64)
+    if landmarks.ndim != 2 or landmarks.shape[1] != 2 or not np.isfinite(landmarks).all():
+        raise ValueError(f"expected finite landmarks of shape (N, 2), got shape {landmarks.shape}")
+    text = json.dumps({"landmarks": landmarks.tolist()}).encode()
     atomic_write(path, lambda f: f.write(text))
 
 
-def _read_text(path: str | os.PathLike) -> str:
+def _read_json_points(path: str | os.PathLike) -> np.ndarray:
+    """The ``[x, y]`` pairs of a JSON landmark file, as an (N, 2) array (count not checked)."""
     try:
-        with open(path, encoding="utf-8") as f:
+        data = json.loads(_read_text(path))
+    except json.JSONDecodeError as e:
+        raise ExprCloneError(f"{path}: invalid JSON ({e.msg} at line {e.lineno}, column {e.colno})") from None
+    if isinstance(data, dict):
+        data = data.get("landmarks")
+    if not isinstance(data, list) or not all(isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in data):
+        raise ExprCloneError(f'{path}: expected a list of [x, y] pairs or {{"landmarks": [[x, y], ...]}}')
+    return np.array(data, dtype=np.float64).reshape(-1, 2)
+
+
+def _is_number(value: object) -> bool:
+    """Whether a decoded JSON value is a number (JSON's true and false are not)."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _check_finite(points: np.ndarray, name: str) -> None:
+    """Raise ExprCloneError naming the first point with a NaN or infinite coordinate."""
+    bad = ~np.isfinite(points).all(axis=1)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        x, y = points[i]
+        raise ExprCloneError(f"{name}: point {i} has a non-finite coordinate ({x:g}, {y:g})")
+
+
+def _read_text(path: str | os.PathLike) -> str:
+    """The file's text, or ExprCloneError naming the file."""
+    try:
+        with open(path, encoding="utf-8-sig") as f:
             return f.read()
     except FileNotFoundError:
         raise ExprCloneError(f"{path}: no such file") from None
     except IsADirectoryError:
         raise ExprCloneError(f"{path}: is a directory") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise ExprCloneError(f"{path}: cannot be read ({e})") from None
+    except OSError as e:
+        raise ExprCloneError(f"{path}: cannot be read ({e.strerror})") from None
+    except UnicodeDecodeError:
+        raise ExprCloneError(f"{path}: not a text file (not UTF-8)") from None
