@@ -53,6 +53,12 @@ def add_inputs(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--eigenfaces", metavar="PATH", help="eigenface basis for the DB metric: a .npz, or a folder of face photos to train one on"
     )
+    p.add_argument(
+        "--no-mouth",
+        dest="mouth",
+        action="store_false",
+        help="leave an opened mouth's stretched lips instead of pasting the source's teeth",
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -120,8 +126,8 @@ def load_eigenfaces(path: str | None):
         raise ExprCloneError(f"{path}: not an eigenface basis (.npz with mean, components, size): {e}") from None
 
 
-def load_inputs(args: argparse.Namespace) -> tuple[list[str], list, tuple]:
-    """The three photos and their landmark files, as named on the command line."""
+def load_inputs(args: argparse.Namespace) -> tuple[list[str], list, dict]:
+    """The three photos as named on the command line, and the options for :func:`exprclone.clone`."""
     from .images import load_image
     from .landmark_files import read_landmarks
 
@@ -129,7 +135,10 @@ def load_inputs(args: argparse.Namespace) -> tuple[list[str], list, tuple]:
     images = [load_image(p) for p in inputs]
     files = (args.source_neutral_landmarks, args.source_expression_landmarks, args.target_neutral_landmarks)
     landmarks = tuple(None if f is None else read_landmarks(f, im.shape) for f, im in zip(files, images))
-    return inputs, images, landmarks
+    options = dict(
+        lambda_k=args.lambda_k, landmarks=landmarks, eigenfaces=load_eigenfaces(args.eigenfaces), names=tuple(inputs), mouth=args.mouth
+    )
+    return inputs, images, options
 
 
 def run_clone(args: argparse.Namespace) -> None:
@@ -140,15 +149,8 @@ def run_clone(args: argparse.Namespace) -> None:
     check_output_path(args.output, inputs)
     if args.save_json:
         check_output_path(args.save_json, inputs + [args.output], extensions=[".json"])
-    inputs, images, landmarks = load_inputs(args)
-    result = clone(
-        *images,
-        method=args.method,
-        lambda_k=args.lambda_k,
-        landmarks=landmarks,
-        eigenfaces=load_eigenfaces(args.eigenfaces),
-        names=tuple(inputs),
-    )
+    inputs, images, options = load_inputs(args)
+    result = clone(*images, method=args.method, **options)
     save_image(args.output, result.image, inputs=inputs)
     if args.save_json:
         record = json.dumps(result_json(result, inputs), indent=1).encode()
@@ -163,10 +165,8 @@ def run_compare(args: argparse.Namespace) -> None:
     from .images import check_output_path, save_image
 
     check_output_path(args.output, [args.source_neutral, args.source_expression, args.target_neutral])
-    inputs, images, landmarks = load_inputs(args)
-    results = clone_methods(
-        *images, lambda_k=args.lambda_k, landmarks=landmarks, eigenfaces=load_eigenfaces(args.eigenfaces), names=tuple(inputs)
-    )
+    inputs, images, options = load_inputs(args)
+    results = clone_methods(*images, **options)
     save_image(args.output, sheet(results, images[1]), inputs=inputs)
     print(f"{args.output}: 7 methods, lambda_k={results['e+md'].lambda_k:g}")
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import elastic, eri, geometry, global_warp, lips, local_warp, metric, muscle, warp
+from . import mouth as mouth_fill
 from .eigenface import Eigenfaces
 from .errors import ExprCloneError
 from .landmark_files import check_points
@@ -45,6 +46,9 @@ class CloneResult:
         The MD model's detail-importance mask M (e+md only).
     muscle_strengths : ndarray of shape (A,) or None
         ``h`` of each key muscle area (e+md only).
+    mouth_mask : ndarray of shape (H, W) or None
+        Weight of the source's mouth interior pasted into the opened mouth
+        (:mod:`exprclone.mouth`; methods with ERI), None when nothing was pasted.
     unfolded_points : int
         Control points moved to stop triangles folding over.
     """
@@ -57,6 +61,7 @@ class CloneResult:
     eri: np.ndarray | None = None
     muscle_mask: np.ndarray | None = None
     muscle_strengths: np.ndarray | None = None
+    mouth_mask: np.ndarray | None = None
     unfolded_points: int = 0
 
 
@@ -139,7 +144,7 @@ def clone(
     landmarks : tuple of three (N, 2) arrays or None, optional
         Known landmarks for each photo; None entries are detected.
     **options
-        ``detector``, ``eigenfaces``, ``layout``, ``names``: see :func:`clone_methods`.
+        ``detector``, ``eigenfaces``, ``layout``, ``names``, ``mouth``: see :func:`clone_methods`.
 
     Returns
     -------
@@ -160,6 +165,7 @@ def clone_methods(
     eigenfaces: Eigenfaces | None = None,
     layout: Layout = DLIB68,
     names: tuple[str, str, str] = ("source_neutral", "source_expression", "target_neutral"),
+    mouth: bool = True,
 ) -> dict[str, CloneResult]:
     """Several methods at once, sharing the stages they have in common (Fig. 5).
 
@@ -176,6 +182,9 @@ def clone_methods(
     layout : Layout
     names : tuple of str
         How to name the three photos in error messages (their file paths).
+    mouth : bool
+        Fill an opened mouth with the source's mouth interior (teeth) in the methods
+        with ERI (:mod:`exprclone.mouth`); False leaves the stretched lips.
 
     Returns
     -------
@@ -253,5 +262,7 @@ def clone_methods(
             r.eri, r.image = ratios[kind], with_details(kind, r.muscle_mask)
         elif m.endswith("+eri"):
             r.eri, r.image = ratios[kind], with_details(kind)
+        if mouth and r.eri is not None:
+            r.image, r.mouth_mask = mouth_fill.fill_interior(r.image, lm["final"], src_exp_img, s_exp, tgt_img, t_neu, layout)
         results[m] = r
     return results
