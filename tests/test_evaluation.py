@@ -65,13 +65,13 @@ def test_pairs_are_reproducible_and_of_different_people(london):
 
 
 def test_summary_counts_failures_and_never_drops_them():
-    def row(method, pair, mouth, failed="", strong=0):
+    def row(method, pair, mouth, failed="", smile=0.05):
         score = "" if failed else mouth
         return {
             "source": pair[0],
             "target": pair[1],
             "method": method,
-            "strong": strong,
+            "target_smile": smile,
             "failed": failed,
             "overall": score,
             "mouth": score,
@@ -80,10 +80,10 @@ def test_summary_counts_failures_and_never_drops_them():
         }
 
     rows = [
-        row("global", "ab", 0.02, strong=1),
+        row("global", "ab", 0.02, smile=0.3),
         row("global", "ac", 0.0, failed="no face found"),
         row("global", "ad", 0.04),
-        row("e+md", "ab", 0.01, strong=1),
+        row("e+md", "ab", 0.01, smile=0.3),
         row("e+md", "ac", 0.03),
         row("e+md", "ad", 0.035),
     ]
