@@ -35,14 +35,23 @@ def test_dark_pixels_give_finite_clamped_ratios():
         assert np.isfinite(r).all() and r.min() >= eri.CLAMP[0] and r.max() <= eri.CLAMP[1]
 
 
-def test_darker_expression_darkens_the_target_skin(pair):
+def test_local_shading_is_transferred_and_exposure_is_not(pair):
     (_, _, target), (_, _, lm) = pair
-    darker = (target * 0.8).astype(np.uint8)
-    ratio = eri.expression_ratio(target, darker, np.ones(target.shape[:2], np.float32), geometry.interocular(lm, DLIB68))
-    out = eri.apply_details(target, ratio)
-    x, y = ((lm[2] + lm[31]) / 2).round().astype(int)  # a patch of cheek
+    iod = geometry.interocular(lm, DLIB68)
+    x, y = ((lm[2] + lm[31]) / 2).round().astype(int)  # a cheek
+    fold = (slice(y - 40, y + 40), slice(x - 40, x + 40))
+    shaded = target.copy()
+    shaded[fold] = (shaded[fold] * 0.8).astype(np.uint8)  # a fold darkens the cheek
+    face = np.zeros(target.shape[:2], np.float32)
+    face[int(lm[19, 1]) : int(lm[8, 1]), int(lm[0, 0]) : int(lm[16, 0])] = 1
+    out = eri.apply_details(target, eri.expression_ratio(target, shaded, face, iod))
     patch = (slice(y - 20, y + 20), slice(x - 20, x + 20))
-    assert out[patch].astype(float).mean() / target[patch].mean() == pytest.approx(0.8, abs=0.02)
+    assert out[patch].astype(float).mean() / target[patch].mean() == pytest.approx(0.8, abs=0.03)
+    nose = (slice(int(lm[30, 1]) - 10, int(lm[30, 1]) + 10), slice(int(lm[30, 0]) - 10, int(lm[30, 0]) + 10))
+    assert np.abs(out[nose].astype(float) - target[nose]).mean() < 1.5  # untouched elsewhere
+    # the same darkening over the whole photo is exposure, not expression
+    darker = (target * 0.8).astype(np.uint8)
+    assert np.allclose(eri.expression_ratio(target, darker, face, iod), 1.0, atol=0.02)
 
 
 def test_texture_confidence_trusts_skin_not_hair(pair):

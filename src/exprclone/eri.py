@@ -12,7 +12,9 @@ One addition to Liu et al.: where the source's *neutral* photo is itself texture
 background), the ratio of two slightly misregistered textures is noise, not shading,
 and it is faded out (:func:`texture_confidence`); the filter is a normalised
 convolution over the trusted pixels only, so nothing leaks from the excluded ones.
-Expression folds appear only in the expression photo, so they are not affected. Without it a fringe of hair on the
+Expression folds appear only in the expression photo, so they are not affected. A
+change of exposure between the source's two photos is divided out as well (the median
+ratio over the face is taken to be 1). Without it a fringe of hair on the
 source's forehead prints bright stripes on the target's.
 """
 
@@ -106,6 +108,11 @@ def expression_ratio(neutral_warped: np.ndarray, expression_warped: np.ndarray, 
     weight = mask * texture_confidence(y_neutral, iod)
     sigma = max(FILTER_SIGMA * iod, 0.5)
     ratio = cv2.GaussianBlur(weight * ratio, (0, 0), sigma) / (cv2.GaussianBlur(weight, (0, 0), sigma) + 1e-6)
+    # An expression changes the shading of parts of the face, not of all of it: a ratio
+    # whose median over the trusted face is not 1 is the two photos' exposure, divided out.
+    trusted = weight > 0.5
+    if trusted.any():
+        ratio /= max(float(np.median(ratio[trusted])), 1e-3)
     ratio = np.clip(ratio, *CLAMP)
     return 1.0 + weight * (ratio - 1.0)
 

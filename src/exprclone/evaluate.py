@@ -123,13 +123,8 @@ def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], l
         if image is not None:
             images[method] = image
             try:
-                found = (
-                    landmarks[ts]
-                    if method == "real"
-                    else landmarks[tn]
-                    if method == "no change"
-                    else default_detector().detect(image, f"{method} result")
-                )
+                known = {"real": landmarks[ts], "no change": landmarks[tn]}
+                found = known[method] if method in known else default_detector().detect(image, f"{method} result")
                 row.update(landmark_error(found, truth, DLIB68))
                 row["identity"] = identity_distance(_descriptor()(image, found), target_descriptor)
             except ExprCloneError as e:
