@@ -44,6 +44,8 @@ class Layout:
     mouth_inner: tuple[int, ...]
     #: (upper, lower) inner-lip points that face each other across the mouth opening.
     lip_pairs: tuple[tuple[int, int], ...]
+    #: (upper outer, upper inner, lower inner, lower outer) lip points stacked in one column.
+    lip_columns: tuple[tuple[int, int, int, int], ...]
     #: points that barely move with expression: used to remove head motion.
     rigid: tuple[int, ...]
     #: the two outer eye corners: the face's horizontal axis and scale.
@@ -80,6 +82,7 @@ DLIB68 = Layout(
     mouth_outer=_r(48, 60),
     mouth_inner=_r(60, 68),
     lip_pairs=((61, 67), (62, 66), (63, 65)),
+    lip_columns=((50, 61, 67, 58), (51, 62, 66, 57), (52, 63, 65, 56)),
     rigid=(0, 1, 15, 16, 27, 28, 29, 30, 36, 39, 42, 45),
     eye_corners=(36, 45),
     muscle_areas=(
