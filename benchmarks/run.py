@@ -30,9 +30,9 @@ import cv2
 import numpy as np
 
 from exprclone import METHODS, clone, clone_methods, elastic, eri, geometry, global_warp, local_warp, metric, muscle, warp
-from exprclone.clone import default_detector, default_eigenfaces
 from exprclone.images import load_image
 from exprclone.layout import DLIB68
+from exprclone.pipeline import default_detector, default_eigenfaces
 
 
 def median_ms(fn, repeat: int) -> float:

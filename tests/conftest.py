@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from exprclone.clone import default_detector
 from exprclone.images import load_image
+from exprclone.pipeline import default_detector
 
 DATA = Path(os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
 LONDON = DATA / "london"

@@ -140,3 +140,12 @@ def test_evaluate_on_two_pairs(london, tmp_path):
 def test_evaluate_rejects_an_unknown_method(london, tmp_path):
     p = run("evaluate", "--data", london, "--methods", "global,warp", "--out", tmp_path / "r")
     assert p.returncode == 2 and "warp" in p.stderr and not (tmp_path / "r").exists()
+
+
+def test_start_up_stays_lean():
+    """`import exprclone` and `exprclone --help` load neither numpy, OpenCV, SciPy nor dlib."""
+    heavy = "{'numpy', 'cv2', 'scipy', 'dlib'}"
+    code = f"import sys, exprclone, exprclone.cli; exprclone.cli.build_parser(); print(sorted({heavy} & set(sys.modules)))"
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert p.returncode == 0 and p.stdout.strip() == "[]", p.stdout + p.stderr
+    assert callable(__import__("exprclone").clone)  # the pipeline is there when asked for

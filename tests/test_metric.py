@@ -2,8 +2,8 @@ import numpy as np
 import pytest
 
 from exprclone import elastic, global_warp, local_warp, metric, warp
-from exprclone.clone import default_eigenfaces
 from exprclone.layout import DLIB68
+from exprclone.pipeline import default_eigenfaces
 
 
 def test_db_on_the_straight_line_is_smallest_half_way():

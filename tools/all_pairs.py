@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from exprclone import METHODS, clone_methods
-from exprclone.clone import default_detector
 from exprclone.images import load_image
+from exprclone.pipeline import default_detector
 
 
 @functools.cache

@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 
 from exprclone import METHODS, clone_methods
-from exprclone.clone import default_detector
 from exprclone.compare import cell, face_box
 from exprclone.evaluate import Dataset
 from exprclone.images import load_image, save_image
+from exprclone.pipeline import default_detector
 
 
 def main() -> None:

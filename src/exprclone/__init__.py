@@ -8,8 +8,17 @@ Muscle Models" (the E+MD algorithm) and of the other methods it compares (Fig. 1
 ('global', 'local', 'elastic', 'global+eri', 'local+eri', 'elastic+eri', 'e+md')
 """
 
-from .clone import METHODS, CloneResult, clone, clone_methods
 from .errors import ExprCloneError, ExprCloneWarning
+from .methods import METHODS
 
 __all__ = ["METHODS", "CloneResult", "ExprCloneError", "ExprCloneWarning", "clone", "clone_methods"]
 __version__ = "0.1.0"
+
+
+def __getattr__(name: str):
+    """The pipeline (numpy, OpenCV, SciPy) is imported on first use, not with the package."""
+    if name in ("clone", "clone_methods", "CloneResult"):
+        from . import pipeline
+
+        return getattr(pipeline, name)
+    raise AttributeError(f"module 'exprclone' has no attribute {name!r}")

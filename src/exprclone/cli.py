@@ -62,7 +62,7 @@ def add_inputs(p: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .clone import METHODS
+    from .methods import METHODS
 
     parser = argparse.ArgumentParser(prog="exprclone", description="Facial expression cloning with elastic and muscle models (E+MD).")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -110,9 +110,9 @@ def load_eigenfaces(path: str | None):
     """The basis named by ``--eigenfaces``: None (packaged), a .npz, or a folder to train on."""
     if path is None:
         return None
-    from .clone import default_detector
     from .eigenface import Eigenfaces, train
     from .layout import DLIB68
+    from .pipeline import default_detector
 
     p = Path(path)
     if p.is_dir():
@@ -142,8 +142,8 @@ def load_inputs(args: argparse.Namespace) -> tuple[list[str], list, dict]:
 
 
 def run_clone(args: argparse.Namespace) -> None:
-    from .clone import clone
     from .images import atomic_write, check_output_path, save_image
+    from .pipeline import clone
 
     inputs = [args.source_neutral, args.source_expression, args.target_neutral]
     check_output_path(args.output, inputs)
@@ -160,9 +160,9 @@ def run_clone(args: argparse.Namespace) -> None:
 
 
 def run_compare(args: argparse.Namespace) -> None:
-    from .clone import clone_methods
     from .compare import sheet
     from .images import check_output_path, save_image
+    from .pipeline import clone_methods
 
     check_output_path(args.output, [args.source_neutral, args.source_expression, args.target_neutral])
     inputs, images, options = load_inputs(args)
@@ -174,8 +174,8 @@ def run_compare(args: argparse.Namespace) -> None:
 def run_evaluate(args: argparse.Namespace) -> None:
     from pathlib import Path
 
-    from .clone import METHODS
     from .evaluate import Dataset, run, summarise, table, write_report
+    from .methods import METHODS
 
     methods = METHODS if args.methods == "all" else tuple(m.strip() for m in args.methods.split(","))
     unknown = [m for m in methods if m not in METHODS]

@@ -14,8 +14,9 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from .clone import METHODS, CloneResult
+from .methods import METHODS
 from .metric import DBCurve
+from .pipeline import CloneResult
 
 CELL = 320
 FIG13 = (

@@ -27,11 +27,11 @@ from pathlib import Path
 import numpy as np
 
 from . import geometry, global_warp
-from .clone import clone_methods, default_detector
 from .errors import ExprCloneError
 from .evaluation import SAME_PERSON, FaceDescriptor, identity_distance, landmark_error
 from .images import load_image, save_image
 from .layout import DLIB68
+from .pipeline import clone_methods, default_detector
 
 #: relative widening of the mouth (corner distance / eye-corner distance) that makes a
 #: strong smile: the top 29% of the London Set's 72 people (median 15%, quartiles 11% and 22%).

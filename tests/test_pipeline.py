@@ -5,8 +5,8 @@ import pytest
 
 import exprclone
 from exprclone import geometry
-from exprclone.clone import default_detector
 from exprclone.layout import DLIB68
+from exprclone.pipeline import default_detector
 
 MOUTH = list(DLIB68.mouth_outer)
 

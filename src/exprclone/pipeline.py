@@ -18,9 +18,7 @@ from .errors import ExprCloneError
 from .landmark_files import check_points
 from .landmarks import Detector
 from .layout import DLIB68, Layout
-
-#: The seven methods of Fig. 11, (a)-(g).
-METHODS = ("global", "local", "elastic", "global+eri", "local+eri", "elastic+eri", "e+md")
+from .methods import METHODS
 
 
 @dataclass
