@@ -116,8 +116,7 @@ def warp_peers(images, lms, repeat: int) -> dict[str, float]:
     ours = median_ms(lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles), repeat)
 
     def skimage_warp():
-        t = PiecewiseAffineTransform()
-        t.estimate(dst, mesh.points)  # output -> input, as skimage's warp expects
+        t = PiecewiseAffineTransform.from_estimate(dst, mesh.points)  # output -> input, as skimage's warp expects
         return sk_warp(tn_img, t, preserve_range=True).astype(np.uint8)
 
     sk = median_ms(skimage_warp, max(1, repeat // 3))
