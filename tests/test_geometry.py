@@ -16,12 +16,6 @@ def test_fit_similarity_recovers_a_known_transform(pair):
     assert np.allclose(fitted, t, atol=1e-9)
 
 
-def test_invert_undoes_apply(pair):
-    _, (landmarks, _, _) = pair
-    t = similarity(-0.2, 0.5, (3.0, 4.0))
-    assert np.allclose(geometry.apply(geometry.invert(t), geometry.apply(t, landmarks)), landmarks)
-
-
 def test_face_axes_follow_a_tilted_head(pair):
     _, (landmarks, _, _) = pair
     tilted = geometry.apply(similarity(0.4, 1.0, (0, 0)), landmarks)

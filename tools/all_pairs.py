@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from exprclone import METHODS, clone_methods
+from exprclone.evaluate import Dataset
 from exprclone.images import load_image
 from exprclone.pipeline import default_detector
 
@@ -29,19 +30,17 @@ def photo(path: str) -> np.ndarray:
 
 
 def run_pair(job):
-    (a, b), paths, landmarks = job
-    sn, se, tn = paths[a, "n"], paths[a, "s"], paths[b, "n"]
+    data, (a, b), landmarks = job
+    paths = (data.path(a, False), data.path(a, True), data.path(b, False))
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            results = clone_methods(
-                photo(sn), photo(se), photo(tn), landmarks=(landmarks[a, "n"], landmarks[a, "s"], landmarks[b, "n"]), names=(sn, se, tn)
-            )
-        bad = [m for m, r in results.items() if r.image.shape != photo(tn).shape or not np.isfinite(r.image).all()]
+            results = clone_methods(*(photo(p) for p in paths), landmarks=tuple(landmarks[p] for p in paths), names=paths)
+        wrong = [m for m, r in results.items() if r.image.shape != photo(paths[2]).shape]
         return (
             a,
             b,
-            None if not bad else f"bad output for {bad}",
+            f"output of the wrong size for {wrong}" if wrong else None,
             max(r.unfolded_points for r in results.values()),
             results["e+md"].lambda_k,
         )
@@ -55,22 +54,16 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--limit", type=int, default=0, help="only the first N pairs (0: all)")
     args = parser.parse_args()
-    london = Path(args.data) / "london"
-    ids = sorted(p.name[:3] for p in (london / "neutral_front").glob("*.jpg"))
-    paths = {}
-    for i in ids:
-        paths[i, "n"] = str(london / "neutral_front" / f"{i}_03.jpg")
-        paths[i, "s"] = str(london / "smiling_front" / f"{i}_08.jpg")
-    landmarks = {key: default_detector().detect(photo(p), p) for key, p in paths.items()}
-    pairs = [(a, b) for b in ids for a in ids if a != b]
+    data = Dataset.open(Path(args.data) / "london")
+    landmarks = {p: default_detector().detect(photo(p), p) for i in data.ids for p in (data.path(i, False), data.path(i, True))}
+    pairs = data.pairs(0, seed=0)
     if args.limit:
         pairs = pairs[: args.limit]
     start = time.time()
     failures, unfolded, lambdas = [], 0, collections.Counter()
     with multiprocessing.get_context("fork").Pool(args.jobs) as pool:
-        for k, (a, b, error, n_unfolded, lam) in enumerate(
-            pool.imap_unordered(run_pair, [((a, b), paths, landmarks) for a, b in pairs], chunksize=4), 1
-        ):
+        jobs = [(data, pair, landmarks) for pair in pairs]
+        for k, (a, b, error, n_unfolded, lam) in enumerate(pool.imap_unordered(run_pair, jobs, chunksize=4), 1):
             if error:
                 failures.append((a, b, error))
                 print(f"FAIL {a} -> {b}: {error}", flush=True)

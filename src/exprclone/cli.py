@@ -183,9 +183,9 @@ def run_evaluate(args: argparse.Namespace) -> None:
         raise ExprCloneError(f"--methods: unknown method {unknown[0]!r}; choose from: {', '.join(METHODS)}")
     data = Dataset.open(args.data)
     pairs = data.pairs(args.pairs, args.seed)
-    rows = run(data, pairs, methods, jobs=max(1, args.jobs))
+    rows, landmarks = run(data, pairs, methods, jobs=max(1, args.jobs))
     command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"
-    write_report(Path(args.out), data, rows, methods, command)
+    write_report(Path(args.out), data, rows, landmarks, methods, command)
     print(table(summarise(rows)))
     print(f"strong smiles only:\n{table(summarise(rows, strong_only=True))}")
     print(f"report: {Path(args.out) / 'summary.md'}")

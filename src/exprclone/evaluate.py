@@ -31,6 +31,7 @@ from .errors import ExprCloneError
 from .evaluation import SAME_PERSON, FaceDescriptor, identity_distance, landmark_error
 from .images import load_image, save_image
 from .layout import DLIB68
+from .mouth import mouth_width
 from .pipeline import clone_methods, default_detector
 
 #: relative widening of the mouth (corner distance / eye-corner distance) that makes a
@@ -84,22 +85,30 @@ def _descriptor() -> FaceDescriptor:
 def smile_strength(neutral: np.ndarray, smile: np.ndarray) -> float:
     """Relative widening of the mouth from ``neutral`` to ``smile`` landmarks (head motion removed)."""
     aligned = global_warp.remove_head_motion(neutral, smile, DLIB68)
-    width = lambda p: np.linalg.norm(p[54] - p[48]) / geometry.interocular(p, DLIB68)  # noqa: E731
+    width = lambda p: mouth_width(p, DLIB68) / geometry.interocular(p, DLIB68)  # noqa: E731
     return float(width(aligned) / width(neutral) - 1.0)
 
 
-def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict) -> tuple[list[dict], dict]:
+def _clone(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict) -> dict:
+    """A's smile cloned onto B by ``methods``, with the landmarks already found."""
+    sn, se, tn = data.path(pair[0], False), data.path(pair[0], True), data.path(pair[1], False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return clone_methods(
+            _photo(sn), _photo(se), _photo(tn), methods, landmarks=(landmarks[sn], landmarks[se], landmarks[tn]), names=(sn, se, tn)
+        )
+
+
+def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict) -> list[dict]:
     """Clone A's smile onto B by each method and score it; also the two references.
 
     Returns
     -------
-    rows : list of dict
+    list of dict
         One row of :data:`FIELDS` per method and reference.
-    images : dict
-        The result images by method (for the gallery).
     """
     a, b = pair
-    sn, se, tn, ts = data.path(a, False), data.path(a, True), data.path(b, False), data.path(b, True)
+    tn, ts = data.path(b, False), data.path(b, True)
     truth = landmarks[ts]
     target_descriptor = _descriptor()(_photo(tn), landmarks[tn])
     target_smile = smile_strength(landmarks[tn], truth)
@@ -108,20 +117,15 @@ def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], l
         "real": (_photo(ts), "", None),
     }
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            results = clone_methods(
-                _photo(sn), _photo(se), _photo(tn), methods, landmarks=(landmarks[sn], landmarks[se], landmarks[tn]), names=(sn, se, tn)
-            )
+        results = _clone(data, pair, methods, landmarks)
         candidates.update({m: (r.image, "", r.lambda_k) for m, r in results.items()})
     except Exception as e:  # counted as a failure of every method, never dropped
         candidates.update({m: (None, f"{type(e).__name__}: {e}", None) for m in methods})
-    rows, images = [], {}
+    rows = []
     for method, (image, failed, lam) in candidates.items():
         row = dict.fromkeys(FIELDS, "")
         row.update(source=a, target=b, method=method, target_smile=round(target_smile, 4), lambda_k="" if lam is None else lam)
         if image is not None:
-            images[method] = image
             try:
                 known = {"real": landmarks[ts], "no change": landmarks[tn]}
                 found = known[method] if method in known else default_detector().detect(image, f"{method} result")
@@ -131,16 +135,25 @@ def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], l
                 failed = str(e)
         row["failed"] = failed
         rows.append(row)
-    return rows, images
+    return rows
 
 
 def _score(args):
-    data, pair, methods, landmarks = args
-    return score_pair(data, pair, methods, landmarks)[0]
+    return score_pair(*args)
 
 
-def run(data: Dataset, pairs: list[tuple[str, str]], methods: tuple[str, ...], jobs: int = 1, progress=sys.stderr) -> list[dict]:
-    """Score every pair (in ``jobs`` processes), with a progress bar on ``progress``."""
+def run(
+    data: Dataset, pairs: list[tuple[str, str]], methods: tuple[str, ...], jobs: int = 1, progress=sys.stderr
+) -> tuple[list[dict], dict]:
+    """Score every pair (in ``jobs`` processes), with a progress bar on ``progress``.
+
+    Returns
+    -------
+    rows : list of dict
+        :func:`score_pair`'s rows of every pair.
+    landmarks : dict of str to ndarray
+        The landmarks detected on each photo, by path (detected once, shared by all pairs).
+    """
     people = sorted({p for pair in pairs for p in pair})
     paths = [data.path(p, s) for p in people for s in (False, True)]
     landmarks = {}
@@ -158,7 +171,7 @@ def run(data: Dataset, pairs: list[tuple[str, str]], methods: tuple[str, ...], j
         for k, task in enumerate(tasks, 1):
             rows += _score(task)
             _bar(progress, k, len(pairs), "pairs", time.time() - start)
-    return rows
+    return rows, landmarks
 
 
 def _bar(stream, done: int, total: int, what: str, elapsed: float | None = None) -> None:
@@ -223,7 +236,7 @@ def table(summary: list[dict]) -> str:
     return "\n".join(lines)
 
 
-def write_report(out: Path, data: Dataset, rows: list[dict], methods: tuple[str, ...], command: str) -> str:
+def write_report(out: Path, data: Dataset, rows: list[dict], landmarks: dict, methods: tuple[str, ...], command: str) -> str:
     """``pairs.csv``, ``summary.md`` and the gallery of the best, median and worst e+md pairs."""
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "pairs.csv", "w", newline="") as f:
@@ -251,14 +264,14 @@ def write_report(out: Path, data: Dataset, rows: list[dict], methods: tuple[str,
         table(summarise(rows, strong_only=True)),
         "",
     ]
-    gallery = _gallery(out, data, rows, "e+md" if "e+md" in methods else methods[-1])
+    gallery = _gallery(out, data, rows, landmarks, "e+md" if "e+md" in methods else methods[-1])
     if gallery:
         text += ["## Gallery", "", f"Best, median and worst pairs by mouth error: {gallery}", "", f"![gallery]({gallery})", ""]
     (out / "summary.md").write_text("\n".join(text))
     return "\n".join(text)
 
 
-def _gallery(out: Path, data: Dataset, rows: list[dict], method: str) -> str | None:
+def _gallery(out: Path, data: Dataset, rows: list[dict], landmarks: dict, method: str) -> str | None:
     """Rows of [source smile | target neutral | result | target real smile] for best, median, worst."""
     import cv2
 
@@ -268,11 +281,11 @@ def _gallery(out: Path, data: Dataset, rows: list[dict], method: str) -> str | N
     picks = {"best": scored[0], "median": scored[len(scored) // 2], "worst": scored[-1]}
     strips = []
     for name, r in picks.items():
-        _, images = score_pair(data, (r["source"], r["target"]), (method,), _landmarks_for(data, r))
+        result = _clone(data, (r["source"], r["target"]), (method,), landmarks)[method]
         cells = [
             _photo(data.path(r["source"], True)),
             _photo(data.path(r["target"], False)),
-            images[method],
+            result.image,
             _photo(data.path(r["target"], True)),
         ]
         cells = [cv2.resize(c, (360, 360), interpolation=cv2.INTER_AREA) for c in cells]
@@ -290,8 +303,3 @@ def _gallery(out: Path, data: Dataset, rows: list[dict], method: str) -> str | N
         strips.append(strip)
     save_image(out / "gallery.jpg", np.vstack(strips))
     return "gallery.jpg"
-
-
-def _landmarks_for(data: Dataset, row: dict) -> dict:
-    paths = [data.path(p, s) for p in (row["source"], row["target"]) for s in (False, True)]
-    return {p: default_detector().detect(_photo(p), p) for p in paths}

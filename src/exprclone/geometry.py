@@ -50,12 +50,6 @@ def apply(transform: np.ndarray, points: np.ndarray) -> np.ndarray:
     return points @ transform[:, :2].T + transform[:, 2]
 
 
-def invert(transform: np.ndarray) -> np.ndarray:
-    """Inverse of a ``(2, 3)`` affine transform."""
-    linear = np.linalg.inv(transform[:, :2])
-    return np.hstack([linear, -linear @ transform[:, 2:]])
-
-
 def interocular(landmarks: np.ndarray, layout: Layout) -> float:
     """Distance between the two outer eye corners: the face's unit of length."""
     i, j = layout.eye_corners
