@@ -49,3 +49,15 @@ def test_several_faces_take_the_largest_with_a_warning(photo, detector):
 def test_no_face_is_an_error_naming_the_image(detector):
     with pytest.raises(ExprCloneError, match="wall.png: no face found"):
         detector.detect(np.full((300, 300, 3), 128, np.uint8), "wall.png")
+
+
+def test_strided_image_reads_as_its_pixels(photo, detector):
+    """A view with padded rows (as video decoders return) must be read as the image it shows."""
+    image, _ = photo("005")
+    small = cv2.resize(image, (360, 360), interpolation=cv2.INTER_AREA)
+    padded = np.zeros((360, 368, 3), np.uint8)
+    padded[:, :360] = small
+    view = padded[:, :360]
+    assert not view.flags["C_CONTIGUOUS"]
+    assert detector.faces(view) == detector.faces(small)
+    assert np.array_equal(detector.detect(view), detector.detect(small))

@@ -56,7 +56,9 @@ class Detector:
         if self._detector is None:
             self._load()
         scale = min(1.0, DETECT_SIZE / max(image.shape[:2]))
-        small = cv2.resize(image, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA) if scale < 1 else image
+        # dlib reads the buffer as if contiguous: a strided view (a crop, a video frame with
+        # padded rows) would be read as garbage, so it gets a contiguous copy
+        small = cv2.resize(image, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA) if scale < 1 else np.ascontiguousarray(image)
         rects = self._detector(small, 0)
         if len(rects) == 0:
             rects = self._detector(small, 1)
