@@ -1,4 +1,4 @@
-"""Shared fixtures: the real sample photos of ../shared/data and their landmarks.
+"""Shared fixtures: the real sample photos and clips of ../shared/data, and the photos' landmarks.
 
 The data folder is taken from EXPRCLONE_DATA, else ../shared/data beside the checkout.
 """
@@ -14,6 +14,7 @@ from exprclone.pipeline import default_detector
 
 DATA = Path(os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
 LONDON = DATA / "london"
+GRID = DATA / "grid"
 
 
 def neutral_path(face_id: str) -> Path:
@@ -29,6 +30,15 @@ def london() -> Path:
     if not LONDON.is_dir():
         pytest.fail(f"sample data not found at {LONDON}: set EXPRCLONE_DATA to the shared data folder")
     return LONDON
+
+
+@pytest.fixture(scope="session")
+def grid_clip() -> Path:
+    """A GRID clip: 360x288, 25 fps, 75 frames, with sound (mp2)."""
+    clip = GRID / "bbaf2n.mpg"
+    if not clip.is_file():
+        pytest.fail(f"sample clip not found at {clip}: set EXPRCLONE_DATA to the shared data folder")
+    return clip
 
 
 @pytest.fixture(scope="session")

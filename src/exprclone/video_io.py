@@ -1,0 +1,424 @@
+"""Video files in and out, at the edge of the package.
+
+A video is read as a stream of frames in exprclone's image convention: numpy arrays of shape
+(H, W, 3), dtype uint8, RGB order. :func:`probe` reports what a file holds, :func:`read_frames`
+decodes it frame by frame, and :func:`write_video` encodes frames as they come (from a lazy
+generator, so a long video never sits in memory) into an H.264 file, optionally with the sound of
+another video, atomically, so no half-written output ever exists. FFmpeg does the work, through
+PyAV.
+
+Colour: a decoded frame is converted to RGB by the YUV matrix and range its tags name (BT.601 and
+limited range if untagged, as FFmpeg assumes); written frames are converted by BT.709, limited
+range, and tagged so, which players honour.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import itertools
+import math
+import os
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import IO
+
+import av
+import numpy as np
+from av.video.reformatter import ColorRange, Colorspace
+
+from exprclone.errors import ExprCloneError
+from exprclone.images import PathLike, atomic_write, check_output_path
+
+CRF = 18
+"""x264 constant rate factor: 18 is close to visually lossless; each +6 halves the size."""
+
+PRESET = "veryfast"
+"""x264 speed preset."""
+
+AUDIO_BIT_RATE = 128_000
+"""AAC bit rate, in bits per second."""
+
+_MUXERS: dict[str, tuple[str, dict[str, str]]] = {
+    ".mp4": ("mp4", {"movflags": "+faststart"}),  # index first, so that a browser can start playing at once
+    ".mov": ("mov", {"movflags": "+faststart"}),
+    ".mkv": ("matroska", {}),
+}
+_STILL_IMAGE_FORMATS = ("image2", "image2pipe")  # FFmpeg also reads photos, as one-frame videos
+_AAC = av.Codec("aac", "w")
+# The colour tags (FFmpeg's AVCOL_* codes) written: BT.709 matrix, primaries and transfer, limited
+# range, as we convert RGB to YUV; players then convert back as we converted.
+_COLOR_TAGS = {"colorspace": 1, "color_primaries": 1, "color_trc": 1, "color_range": ColorRange.MPEG}
+# The YUV -> RGB matrix for each colorspace tag (AVCOL_SPC_*) a decoded frame may carry; any other
+# (unspecified; BT.2020, which is HDR and would need tone mapping anyway) gets swscale's default,
+# BT.601. PyAV before 18 ignores the tags unless told.
+_MATRICES = {1: Colorspace.ITU709, 4: Colorspace.FCC, 5: Colorspace.ITU601, 6: Colorspace.SMPTE170M, 7: Colorspace.SMPTE240M}
+
+
+@dataclass(frozen=True)
+class VideoInfo:
+    """What :func:`probe` found in a video file.
+
+    Attributes
+    ----------
+    path : str
+        The file.
+    width, height : int
+        Frame size in pixels.
+    fps : fractions.Fraction
+        Frame rate of the video stream (its average rate, else FFmpeg's guess, else its base rate).
+    frames : int
+        Number of frames: as the container records it, else estimated from the duration and
+        ``fps``; 0 if unknown.
+    has_audio : bool
+        Whether the file has an audio stream.
+    """
+
+    path: str
+    width: int
+    height: int
+    fps: Fraction
+    frames: int
+    has_audio: bool
+
+
+def probe(path: PathLike) -> VideoInfo:
+    """Describe the video in ``path`` without decoding it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A video file in any format FFmpeg reads.
+
+    Returns
+    -------
+    VideoInfo
+        Size, frame rate, frame count and whether there is sound.
+
+    Raises
+    ------
+    ExprCloneError
+        If the file is missing or unreadable, not a video, has no video stream or no frame rate.
+
+    Examples
+    --------
+    >>> probe("missing.mp4")
+    Traceback (most recent call last):
+    ...
+    exprclone.errors.ExprCloneError: missing.mp4: no such file
+    """
+    with _open_input(path) as container:
+        stream = container.streams.video[0]
+        fps = _frame_rate(path, stream)
+        return VideoInfo(
+            path=os.fspath(path),
+            width=stream.codec_context.width,
+            height=stream.codec_context.height,
+            fps=fps,
+            frames=stream.frames or _estimated_frames(container, stream, fps),
+            has_audio=bool(container.streams.audio),
+        )
+
+
+def read_frames(path: PathLike) -> Iterator[np.ndarray]:
+    """Decode every frame of the video in ``path``, in order.
+
+    The file is opened (and checked) at the call; the frames are decoded one at a time as the
+    iterator is consumed.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A video file in any format FFmpeg reads.
+
+    Returns
+    -------
+    iterator of numpy.ndarray
+        Each frame as a C-contiguous array of shape (H, W, 3), dtype uint8, RGB order.
+
+    Raises
+    ------
+    ExprCloneError
+        At the call, as :func:`probe`; while iterating, if the video data cannot be decoded.
+    """
+    container = _open_input(path)
+    return _decode(path, container)
+
+
+def write_video(
+    path: PathLike,
+    frames: Iterable[np.ndarray],
+    fps: Fraction,
+    audio_from: PathLike | None = None,
+    *,
+    inputs: Iterable[PathLike] = (),
+) -> int:
+    """Encode frames as an H.264 video, with the sound of another video if asked, atomically.
+
+    The frames are consumed one at a time (``frames`` may be a slow, lazy generator) and encoded
+    with libx264 (yuv420p, ``CRF``, ``PRESET``, tagged BT.709). yuv420p needs an even width and
+    height: an odd one is padded by one row or column repeating the last. If ``audio_from`` has
+    sound, it is re-encoded as AAC (mono or stereo), cut or padded with silence at the start so
+    that it keeps its timing relative to that video's first frame, and cut to the duration of the
+    new video, so that frames taken from ``audio_from`` play in sync with their sound.
+
+    The file is written through :func:`~exprclone.images.atomic_write`: if ``frames`` raises (or
+    the user interrupts), or encoding fails, nothing is left at ``path`` and no temporary file
+    stays behind.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output file: .mp4, .mov or .mkv.
+    frames : iterable of numpy.ndarray
+        uint8 arrays of shape (H, W, 3), RGB order, all of one size.
+    fps : fractions.Fraction
+        Frame rate of the output, such as ``probe(source).fps``.
+    audio_from : str or os.PathLike, optional
+        A video whose sound to carry over; if it has none, the output is silent.
+    inputs : iterable of str or os.PathLike
+        Input files that the output must not overwrite (``audio_from`` is always one).
+
+    Returns
+    -------
+    int
+        The number of frames written.
+
+    Raises
+    ------
+    ExprCloneError
+        If :func:`~exprclone.images.check_output_path` rejects ``path`` (checked before any frame
+        is asked for), ``audio_from`` is not a readable video, ``frames`` is empty, or the file
+        cannot be written.
+    ValueError
+        If ``fps`` is not positive, or a frame is not a uint8 (H, W, 3) array of the first
+        frame's size.
+    """
+    sources = [*inputs, audio_from] if audio_from is not None else list(inputs)
+    check_output_path(path, sources, extensions=_MUXERS)
+    fps = Fraction(fps)
+    if fps <= 0:
+        raise ValueError(f"fps must be positive, got {fps}")
+    sound = audio_from is not None and probe(audio_from).has_audio
+    iterator = iter(frames)
+    first = next(iterator, None)
+    if first is None:
+        raise ExprCloneError(f"{path}: no frames to write")
+    shape = _check_frame(first)
+    muxer, options = _MUXERS[os.path.splitext(path)[1].lower()]
+    count = 0
+
+    def write(file: IO[bytes]) -> None:
+        nonlocal count
+        checked = _checked(itertools.chain([first], iterator), shape)
+        try:
+            with av.open(file, "w", format=muxer, options=options) as output:
+                count = _encode(output, shape, checked, fps, audio_from if sound else None)
+        except av.FFmpegError as exc:
+            raise ExprCloneError(f"{path}: cannot be written ({exc})") from exc
+
+    try:
+        atomic_write(path, write)
+    except _FrameError as carrier:
+        error = carrier.error
+    else:
+        return count
+    raise error  # outside the except clause, so that it comes out as it was raised
+
+
+class _FrameError(Exception):
+    """Carries an error raised by the frames, or by checking one, through ``atomic_write``.
+
+    ``atomic_write`` removes its temporary file on any error, and would report a ValueError or
+    OSError as "cannot be written"; :func:`write_video` re-raises the carried error instead.
+    """
+
+    def __init__(self, error: Exception) -> None:
+        super().__init__(error)
+        self.error = error
+
+
+def _checked(frames: Iterator[np.ndarray], shape: tuple[int, ...]) -> Iterator[np.ndarray]:
+    """Check that each of ``frames`` has ``shape``; an error raised in ``frames`` or by the check comes out as a :class:`_FrameError`."""
+    try:
+        for frame in frames:
+            _check_frame(frame, shape)
+            yield frame
+    except Exception as exc:
+        raise _FrameError(exc) from exc
+
+
+def _check_frame(frame: object, shape: tuple[int, ...] | None = None) -> tuple[int, ...]:
+    """Raise ValueError unless ``frame`` is a uint8 (H, W, 3) array (of ``shape`` if given); return its shape."""
+    if not isinstance(frame, np.ndarray) or frame.dtype != np.uint8 or frame.ndim != 3 or frame.shape[2] != 3:
+        described = f"{frame.dtype} array of shape {frame.shape}" if isinstance(frame, np.ndarray) else type(frame).__name__
+        raise ValueError(f"expected a uint8 (H, W, 3) frame, got {described}")
+    if shape is not None and frame.shape != shape:
+        raise ValueError(f"all frames must have one size: expected {shape}, got {frame.shape}")
+    return frame.shape
+
+
+def _encode(
+    output: av.container.OutputContainer, shape: tuple[int, ...], frames: Iterator[np.ndarray], fps: Fraction, audio_from: PathLike | None
+) -> int:
+    """Encode ``frames`` of ``shape`` (and the sound of ``audio_from``) into ``output``; return the frame count."""
+    with contextlib.ExitStack() as stack:
+        video = output.add_stream("libx264", rate=fps, options={"crf": str(CRF), "preset": PRESET})
+        video.height, video.width = shape[0] + shape[0] % 2, shape[1] + shape[1] % 2
+        video.pix_fmt = "yuv420p"
+        for tag, value in _COLOR_TAGS.items():
+            setattr(video.codec_context, tag, value)
+        sound = _Soundtrack(audio_from, stack.enter_context(_open_input(audio_from)), output) if audio_from is not None else None
+        count = 0
+        for frame in frames:
+            picture = av.VideoFrame.from_ndarray(_even(frame), format="rgb24")
+            picture = picture.reformat(format="yuv420p", dst_colorspace=Colorspace.ITU709, dst_color_range=ColorRange.MPEG)
+            picture.pts = count
+            output.mux(video.encode(picture))
+            count += 1
+            if sound is not None:
+                sound.write_until(count / fps)
+        output.mux(video.encode())
+        if sound is not None:
+            sound.finish()
+    return count
+
+
+class _Soundtrack:
+    """The sound of a video, re-encoded as AAC into an output in step with the frames written there.
+
+    Sample ``n`` of the output is the source's sound at ``n / rate`` seconds after the start of the
+    source's video stream (silence before the source's sound starts).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The source, for error messages.
+    source : av.container.InputContainer
+        The source opened, with an audio stream.
+    output : av.container.OutputContainer
+        Where to add the AAC stream and write its packets.
+    """
+
+    def __init__(self, path: PathLike, source: av.container.InputContainer, output: av.container.OutputContainer) -> None:
+        audio = source.streams.audio[0]
+        rate = audio.codec_context.sample_rate
+        self.rate = rate if rate in _AAC.audio_rates else 48_000
+        self.layout = "mono" if audio.codec_context.channels == 1 else "stereo"
+        self.stream = output.add_stream("aac", rate=self.rate, layout=self.layout)
+        self.stream.bit_rate = AUDIO_BIT_RATE
+        self.output = output
+        self.path = path
+        video = source.streams.video[0]
+        self.start = Fraction(video.start_time or 0) * video.time_base
+        self.decoded = source.decode(audio)
+        self.resampler = av.AudioResampler(format="fltp", layout=self.layout, rate=self.rate)
+        self.fifo = av.AudioFifo()
+        self.to_skip: int | None = None  # samples before the video's start, once the first is decoded
+        self.written = 0
+
+    def write_until(self, seconds: Fraction) -> None:
+        """Encode the sound up to ``seconds`` into the video (less if the source's sound ends first)."""
+        end = round(seconds * self.rate)
+        while self.written + self.fifo.samples < end and self._decode_more():
+            pass
+        samples = min(end - self.written, self.fifo.samples)
+        if samples > 0:
+            frame = self.fifo.read(samples)  # PyAV re-cuts it into the encoder's frame size
+            frame.pts, frame.time_base = self.written, Fraction(1, self.rate)
+            self.output.mux(self.stream.encode(frame))
+            self.written += samples
+
+    def finish(self) -> None:
+        """Flush the encoder."""
+        self.output.mux(self.stream.encode())
+
+    def _decode_more(self) -> bool:
+        """Move the next decoded frame of sound into the FIFO, aligned to the video; False at the end."""
+        try:
+            decoded = next(self.decoded, None)
+        except av.FFmpegError as exc:
+            raise ExprCloneError(f"{self.path}: audio data is corrupt ({exc.strerror})") from exc
+        if self.to_skip is None and decoded is not None and decoded.pts is not None:
+            lead = round((decoded.pts * decoded.time_base - self.start) * self.rate)
+            if lead > 0:
+                silence = av.AudioFrame.from_ndarray(
+                    np.zeros((self.stream.codec_context.channels, lead), np.float32), format="fltp", layout=self.layout
+                )
+                silence.sample_rate = self.rate
+                self.fifo.write(silence)
+            self.to_skip = max(0, -lead)
+        for frame in self.resampler.resample(decoded):
+            frame.pts = None  # the FIFO would insist on gapless timestamps from 0
+            self.fifo.write(frame)
+            if self.to_skip:
+                skipped = min(self.to_skip, self.fifo.samples)
+                self.fifo.read(skipped)
+                self.to_skip -= skipped
+        return decoded is not None
+
+
+def _even(frame: np.ndarray) -> np.ndarray:
+    """Pad an odd height or width by one row or column repeating the last; (H, W, 3) -> (H', W', 3), C-contiguous."""
+    height, width = frame.shape[:2]
+    if height % 2 or width % 2:
+        return np.pad(frame, ((0, height % 2), (0, width % 2), (0, 0)), mode="edge")
+    return np.ascontiguousarray(frame)
+
+
+def _open_input(path: PathLike) -> av.container.InputContainer:
+    """Open ``path`` for reading and check that it is a video with a video stream."""
+    if os.path.isdir(path):
+        raise ExprCloneError(f"{path}: is a directory")
+    try:
+        container = av.open(os.fspath(path))
+    except FileNotFoundError as exc:
+        raise ExprCloneError(f"{path}: no such file") from exc
+    except PermissionError as exc:
+        raise ExprCloneError(f"{path}: cannot be read (permission denied)") from exc
+    except av.FFmpegError as exc:
+        raise ExprCloneError(f"{path}: not a video, or damaged ({exc.strerror})") from exc
+    if container.format.name in _STILL_IMAGE_FORMATS or container.format.name.endswith("_pipe"):
+        container.close()
+        raise ExprCloneError(f"{path}: is a still image, not a video")
+    if not container.streams.video:
+        container.close()
+        raise ExprCloneError(f"{path}: has no video stream")
+    return container
+
+
+def _decode(path: PathLike, container: av.container.InputContainer) -> Iterator[np.ndarray]:
+    """The frames of the first video stream of ``container`` as (H, W, 3) uint8 RGB arrays; closes it at the end."""
+    with container:
+        stream = container.streams.video[0]
+        stream.thread_type = "AUTO"
+        try:
+            for frame in container.decode(stream):
+                matrix = _MATRICES.get(frame.colorspace, Colorspace.DEFAULT)
+                # (PyAV 14 skips the conversion details when source and destination colorspace are equal.)
+                rgb = frame.to_ndarray(
+                    format="rgb24", src_colorspace=matrix, dst_colorspace=Colorspace.DEFAULT, src_color_range=frame.color_range
+                )
+                # to_ndarray returns a view of FFmpeg's row-padded buffer; dlib misreads such arrays.
+                yield np.ascontiguousarray(rgb)
+        except av.FFmpegError as exc:
+            raise ExprCloneError(f"{path}: video data is corrupt ({exc.strerror})") from exc
+
+
+def _frame_rate(path: PathLike, stream: av.video.stream.VideoStream) -> Fraction:
+    """The frame rate of ``stream``: average, else guessed, else base rate."""
+    fps = stream.average_rate or stream.guessed_rate or stream.base_rate
+    if not fps:
+        raise ExprCloneError(f"{path}: video has no frame rate")
+    return Fraction(fps)
+
+
+def _estimated_frames(container: av.container.InputContainer, stream: av.video.stream.VideoStream, fps: Fraction) -> int:
+    """Frame count from the duration of ``stream`` (else of ``container``) times ``fps``, rounded; 0 if unknown."""
+    if stream.duration is not None:
+        seconds = stream.duration * stream.time_base
+    elif container.duration is not None:
+        seconds = Fraction(container.duration, av.time_base)
+    else:
+        return 0
+    return math.floor(seconds * fps + Fraction(1, 2))
