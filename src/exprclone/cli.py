@@ -86,6 +86,35 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--methods", default="all", help="comma-separated methods, or all (default)")
     e.add_argument("--out", default="report", help="report folder (default: report/)")
     e.add_argument("--jobs", type=int, default=1, help="processes to use (default 1)")
+    v = sub.add_parser("video", help="drive a neutral portrait with a video of the source person")
+    v.add_argument("target_neutral", help="photo of the target person, neutral (the portrait)")
+    v.add_argument("driving_video", help="video of the source person (any format FFmpeg reads)")
+    v.add_argument("-o", "--output", required=True, help="output video (.mp4, .mov or .mkv)")
+    neutral = v.add_mutually_exclusive_group()
+    neutral.add_argument("--source-neutral", metavar="IMAGE", help="a neutral photo of the source person (default: a video frame)")
+    neutral.add_argument(
+        "--neutral-frame",
+        type=int,
+        metavar="N",
+        help="the video frame (from 0) with the source's neutral face (default: the first with a face)",
+    )
+    v.add_argument("--method", choices=METHODS, default="e+md", help="method of the paper's Fig. 11 (default: e+md)")
+    v.add_argument(
+        "--lambda",
+        dest="lambda_k",
+        type=lambda_arg,
+        default="auto",
+        metavar="auto|FLOAT",
+        help="elasticity ratio k_A'/k_N; auto: the DB metric's median choice on the 5 most expressive frames (default)",
+    )
+    v.add_argument("--lambda-per-frame", action="store_true", help="choose lambda_k by the DB metric on every frame (slower)")
+    v.add_argument("--side-by-side", action="store_true", help="write the driving video and the result side by side")
+    v.add_argument("--head-motion", action="store_true", help="carry the source's head motion over (a similarity of the whole frame)")
+    v.add_argument("--size", type=int, metavar="PIXELS", help="scale the portrait so its longest side has this many pixels")
+    v.add_argument("--no-smooth", dest="smooth", action="store_false", help="use the raw per-frame landmarks, without temporal smoothing")
+    v.add_argument("--target-neutral-landmarks", metavar="FILE", help="landmarks of the portrait (.json or .tem) instead of detecting them")
+    v.add_argument("--eigenfaces", metavar="PATH", help="eigenface basis for the DB metric: a .npz, or a folder of face photos")
+    v.add_argument("--no-mouth", dest="mouth", action="store_false", help="do not paste the source's teeth into an opened mouth")
     return parser
 
 
@@ -191,6 +220,66 @@ def run_evaluate(args: argparse.Namespace) -> None:
     print(f"report: {Path(args.out) / 'summary.md'}")
 
 
+def run_video(args: argparse.Namespace) -> None:
+    import numpy as np
+
+    from . import video, video_io
+    from .images import check_output_path, load_image
+    from .landmark_files import read_landmarks
+    from .progress import Bar
+
+    inputs = [p for p in (args.target_neutral, args.driving_video, args.source_neutral) if p]
+    check_output_path(args.output, inputs, extensions=video_io.EXTENSIONS)
+    if args.size is not None and args.size < 16:
+        raise ExprCloneError(f"--size: expected at least 16 pixels, got {args.size}")
+    target = load_image(args.target_neutral)
+    points = None if args.target_neutral_landmarks is None else read_landmarks(args.target_neutral_landmarks, target.shape)
+    target, points = video.resize_portrait(target, points, args.size)
+    source = None if args.source_neutral is None else (load_image(args.source_neutral), None)
+    driver = video.Driver(
+        target,
+        points,
+        args.driving_video,
+        source_neutral=source,
+        neutral_frame=args.neutral_frame,
+        method=args.method,
+        lambda_k=args.lambda_k,
+        lambda_per_frame=args.lambda_per_frame,
+        head_motion=args.head_motion,
+        smooth=args.smooth,
+        mouth=args.mouth,
+        eigenfaces=load_eigenfaces(args.eigenfaces),
+        target_name=args.target_neutral,
+    )
+    bar = Bar(sys.stderr, len(driver.points), "frames")
+
+    def frames():
+        for done, f in enumerate(driver.frames(), 1):
+            yield video.side_by_side(f.driving, f.image) if args.side_by_side else f.image
+            bar.update(done, f"{done / bar.elapsed:.1f} fps")
+
+    written = video_io.write_video(args.output, frames(), driver.info.fps, audio_from=args.driving_video, inputs=inputs)
+    rate = written / bar.elapsed
+    lam = driver.lambda_k
+    if lam is None:
+        how = ""
+    elif lam == "auto":
+        how = ", lambda_k chosen per frame"
+    else:
+        how = f", lambda_k={lam:g}" + (
+            f" (the DB metric's median on frames {', '.join(map(str, driver.lambda_frames))})" if driver.lambda_frames else ""
+        )
+    neutral = args.source_neutral if driver.neutral_index is None else f"frame {driver.neutral_index}"
+    missing = [int(i) for i in np.flatnonzero(~driver.track.found)]
+    if missing:
+        shown = ", ".join(map(str, missing[:10])) + (", ..." if len(missing) > 10 else "")
+        faces = f"no face on {len(missing)} frame(s) ({shown}): they hold the last landmarks found"
+    else:
+        faces = "a face on every frame"
+    done = f"{args.output}: {written} frames at {float(driver.info.fps):g} fps, {args.method}{how}"
+    print(f"{done}; neutral: {neutral}; {faces}; rendered at {rate:.1f} fps")
+
+
 def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
     """Warnings as one line each on stderr, no source location."""
     print(f"exprclone: warning: {message}", file=sys.stderr)
@@ -200,7 +289,7 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     warnings.showwarning = show_warning
     try:
-        {"clone": run_clone, "compare": run_compare, "evaluate": run_evaluate}[args.command](args)
+        {"clone": run_clone, "compare": run_compare, "evaluate": run_evaluate, "video": run_video}[args.command](args)
     except ExprCloneError as e:
         print(f"exprclone: error: {e}", file=sys.stderr)
         return EXIT_USAGE

@@ -83,6 +83,15 @@ def check_image(image: np.ndarray, name: str) -> np.ndarray:
     return image
 
 
+def check_request(methods: tuple[str, ...], lambda_k: float | str) -> None:
+    """ExprCloneError unless every method is known and lambda_k is "auto" or a number >= 0."""
+    unknown = [m for m in methods if m not in METHODS]
+    if unknown:
+        raise ExprCloneError(f"unknown method {unknown[0]!r}; choose one of: {', '.join(METHODS)}")
+    if lambda_k != "auto" and not (isinstance(lambda_k, (int, float)) and lambda_k >= 0):
+        raise ExprCloneError(f"lambda_k must be 'auto' or a number >= 0, got {lambda_k!r}")
+
+
 def padded_box(points: np.ndarray, iod: float, shape: tuple[int, ...]) -> tuple[int, int, int, int]:
     """``(x0, y0, x1, y1)``: the points' bounding box grown by half an inter-ocular distance, inside the image."""
     lo = np.floor(points.min(0) - 0.5 * iod).astype(int)
@@ -188,79 +197,130 @@ def clone_methods(
     -------
     dict of str to CloneResult
     """
-    unknown = [m for m in methods if m not in METHODS]
-    if unknown:
-        raise ExprCloneError(f"unknown method {unknown[0]!r}; choose one of: {', '.join(METHODS)}")
-    if lambda_k != "auto" and not (isinstance(lambda_k, (int, float)) and lambda_k >= 0):
-        raise ExprCloneError(f"lambda_k must be 'auto' or a number >= 0, got {lambda_k!r}")
+    check_request(methods, lambda_k)
     images = [check_image(im, n) for im, n in zip((source_neutral, source_expression, target_neutral), names)]
     given = landmarks if landmarks is not None else (None, None, None)
     detector = detector or default_detector()
-    pts = [
-        lips.uncross(detector.detect(im, n) if p is None else check_points(p, im.shape, layout.n_points, n), layout)
-        for im, p, n in zip(images, given, names)
-    ]
-    s_neu, s_exp, t_neu = pts
-    src_neu_img, src_exp_img, tgt_img = images
+    s_neu, s_exp, t_neu = (
+        detector.detect(im, n) if p is None else check_points(p, im.shape, layout.n_points, n) for im, p, n in zip(images, given, names)
+    )
+    cloner = Cloner(images[0], s_neu, images[2], t_neu, eigenfaces=eigenfaces, layout=layout)
+    return cloner.clone_methods(images[1], s_exp, methods, lambda_k, mouth=mouth)
 
-    mesh = warp.build_mesh(t_neu, tgt_img.shape, layout)
-    gl = global_warp.global_landmarks(s_neu, s_exp, t_neu, layout)
-    lo = local_warp.local_landmarks(gl, s_exp, layout)
-    stages = {"source_neutral": s_neu, "source_expression": s_exp, "target_neutral": t_neu, "global": gl, "local": lo}
-    kinds = {m: "elastic" if m == "e+md" else m.split("+")[0] for m in methods}
-    chosen, curve = None, None
-    if "elastic" in kinds.values():
-        neighbours = mesh.neighbours()
-        if lambda_k == "auto":
-            lambdas = np.array(metric.LAMBDAS)
-            candidates = list(elastic.elastic_landmarks(gl, lo, neighbours, lambdas))
-            curve = metric.choose_lambda(tgt_img, mesh, candidates, lambdas, src_exp_img, s_exp, eigenfaces or default_eigenfaces(), layout)
-            chosen = curve.best
-            stages["elastic"] = candidates[int(np.flatnonzero(lambdas == chosen)[0])]
-        else:
-            chosen = float(lambda_k)
-            stages["elastic"] = elastic.elastic_landmarks(gl, lo, neighbours, chosen)
 
-    # FI: the target photo warped to each geometry in use
-    geometry_of, fi = {}, {}
-    for kind in set(kinds.values()):
-        dst, n_fixed = warp.unfold(mesh.points, mesh.control_points(lips.uncross(stages[kind], layout)), mesh.triangles, mesh.n_moving)
-        geometry_of[kind] = (dst, n_fixed)
-        fi[kind] = warp.warp(tgt_img, mesh.points, dst, mesh.triangles)
+class Cloner:
+    """The source's neutral face and the target's, prepared once for many source expressions.
 
-    # ERI: both source photos warped to the target's final geometry (Liu et al.)
-    source_ctrl = [
-        mesh.control_points(p, geometry.fit_similarity(t_neu[list(layout.rigid)], p[list(layout.rigid)])) for p in (s_neu, s_exp)
-    ]
-    ratios, boxes = {}, {}
-    for kind in {kinds[m] for m in methods if m.endswith("+eri") or m == "e+md"}:
-        ratios[kind], boxes[kind] = ratio_image(mesh, geometry_of[kind][0], (src_neu_img, src_exp_img), source_ctrl, tgt_img.shape, layout)
+    Everything that depends only on the two neutral faces (the target's mesh and its
+    spring neighbours, the source's neutral photo placed on that mesh) is computed here,
+    so that each expression (a photo, or a frame of a driving video) costs only the
+    stages of Fig. 5 that depend on it.
 
-    def with_details(kind: str, importance: np.ndarray | float = 1.0) -> np.ndarray:
-        """Eq. (9) applied in the face box, where the ERI differs from 1."""
-        box = boxes[kind]
-        out = fi[kind].copy()
-        out[box] = eri.apply_details(fi[kind][box], ratios[kind][box], importance if np.isscalar(importance) else importance[box])
-        return out
+    Parameters
+    ----------
+    source_neutral, target_neutral : ndarray of shape (H, W, 3), uint8 RGB
+    source_neutral_points, target_neutral_points : ndarray of shape (N, 2)
+        Their landmarks.
+    eigenfaces : Eigenfaces, optional
+        Basis of the DB metric; the packaged one by default.
+    layout : Layout
+    """
 
-    results = {}
-    for m in methods:
-        kind = kinds[m]
-        dst, n_fixed = geometry_of[kind]
-        lm = dict(stages, final=dst[: mesh.n_landmarks])
-        if kind != "elastic":
-            lm.pop("elastic", None)
-        r = CloneResult(
-            fi[kind], m, lm, chosen if kind == "elastic" else None, curve if kind == "elastic" else None, unfolded_points=n_fixed
-        )
-        if m == "e+md":
-            centres, radii = muscle.areas(lm["final"], layout)
-            r.muscle_strengths = muscle.strengths(s_neu, global_warp.remove_head_motion(s_neu, s_exp, layout), layout)
-            r.muscle_mask = muscle.importance_mask(tgt_img.shape[:2], centres, radii, r.muscle_strengths)
-            r.eri, r.image = ratios[kind], with_details(kind, r.muscle_mask)
-        elif m.endswith("+eri"):
-            r.eri, r.image = ratios[kind], with_details(kind)
-        if mouth and r.eri is not None:
-            r.image, r.mouth_mask = mouth_fill.fill_interior(r.image, lm["final"], src_exp_img, s_exp, tgt_img, t_neu, layout)
-        results[m] = r
-    return results
+    def __init__(
+        self,
+        source_neutral: np.ndarray,
+        source_neutral_points: np.ndarray,
+        target_neutral: np.ndarray,
+        target_neutral_points: np.ndarray,
+        *,
+        eigenfaces: Eigenfaces | None = None,
+        layout: Layout = DLIB68,
+    ) -> None:
+        self.layout = layout
+        self.source_image, self.target_image = source_neutral, target_neutral
+        self.s_neu = lips.uncross(source_neutral_points, layout)
+        self.t_neu = lips.uncross(target_neutral_points, layout)
+        self.eigenfaces = eigenfaces
+        self.mesh = warp.build_mesh(self.t_neu, target_neutral.shape, layout)
+        self.neighbours = self.mesh.neighbours()
+        rigid = list(layout.rigid)
+        self._to_source = geometry.fit_similarity(self.t_neu[rigid], self.s_neu[rigid])
+        self._source_neutral_ctrl = self.mesh.control_points(self.s_neu, self._to_source)
+
+    def clone_methods(
+        self,
+        source_expression: np.ndarray,
+        source_expression_points: np.ndarray,
+        methods: tuple[str, ...] = METHODS,
+        lambda_k: float | str = "auto",
+        *,
+        mouth: bool = True,
+    ) -> dict[str, CloneResult]:
+        """The source expression on the target face, by each of ``methods`` (see :func:`clone_methods`)."""
+        check_request(methods, lambda_k)
+        layout, mesh, tgt_img = self.layout, self.mesh, self.target_image
+        s_neu, t_neu, s_exp = self.s_neu, self.t_neu, lips.uncross(source_expression_points, layout)
+
+        gl = global_warp.global_landmarks(s_neu, s_exp, t_neu, layout)
+        lo = local_warp.local_landmarks(gl, s_exp, layout)
+        stages = {"source_neutral": s_neu, "source_expression": s_exp, "target_neutral": t_neu, "global": gl, "local": lo}
+        kinds = {m: "elastic" if m == "e+md" else m.split("+")[0] for m in methods}
+        chosen, curve = None, None
+        if "elastic" in kinds.values():
+            if lambda_k == "auto":
+                lambdas = np.array(metric.LAMBDAS)
+                candidates = list(elastic.elastic_landmarks(gl, lo, self.neighbours, lambdas))
+                eigenfaces = self.eigenfaces or default_eigenfaces()
+                curve = metric.choose_lambda(tgt_img, mesh, candidates, lambdas, source_expression, s_exp, eigenfaces, layout)
+                chosen = curve.best
+                stages["elastic"] = candidates[int(np.flatnonzero(lambdas == chosen)[0])]
+            else:
+                chosen = float(lambda_k)
+                stages["elastic"] = elastic.elastic_landmarks(gl, lo, self.neighbours, chosen)
+
+        # FI: the target photo warped to each geometry in use
+        geometry_of, fi = {}, {}
+        for kind in set(kinds.values()):
+            dst, n_fixed = warp.unfold(mesh.points, mesh.control_points(lips.uncross(stages[kind], layout)), mesh.triangles, mesh.n_moving)
+            geometry_of[kind] = (dst, n_fixed)
+            fi[kind] = warp.warp(tgt_img, mesh.points, dst, mesh.triangles)
+
+        # ERI: both source photos warped to the target's final geometry (Liu et al.)
+        rigid = list(layout.rigid)
+        source_ctrl = [
+            self._source_neutral_ctrl,
+            mesh.control_points(s_exp, geometry.fit_similarity(t_neu[rigid], s_exp[rigid])),
+        ]
+        sources = (self.source_image, source_expression)
+        ratios, boxes = {}, {}
+        for kind in {kinds[m] for m in methods if m.endswith("+eri") or m == "e+md"}:
+            ratios[kind], boxes[kind] = ratio_image(mesh, geometry_of[kind][0], sources, source_ctrl, tgt_img.shape, layout)
+
+        def with_details(kind: str, importance: np.ndarray | float = 1.0) -> np.ndarray:
+            """Eq. (9) applied in the face box, where the ERI differs from 1."""
+            box = boxes[kind]
+            out = fi[kind].copy()
+            out[box] = eri.apply_details(fi[kind][box], ratios[kind][box], importance if np.isscalar(importance) else importance[box])
+            return out
+
+        results = {}
+        for m in methods:
+            kind = kinds[m]
+            dst, n_fixed = geometry_of[kind]
+            lm = dict(stages, final=dst[: mesh.n_landmarks])
+            if kind != "elastic":
+                lm.pop("elastic", None)
+            r = CloneResult(
+                fi[kind], m, lm, chosen if kind == "elastic" else None, curve if kind == "elastic" else None, unfolded_points=n_fixed
+            )
+            if m == "e+md":
+                centres, radii = muscle.areas(lm["final"], layout)
+                r.muscle_strengths = muscle.strengths(s_neu, global_warp.remove_head_motion(s_neu, s_exp, layout), layout)
+                r.muscle_mask = muscle.importance_mask(tgt_img.shape[:2], centres, radii, r.muscle_strengths)
+                r.eri, r.image = ratios[kind], with_details(kind, r.muscle_mask)
+            elif m.endswith("+eri"):
+                r.eri, r.image = ratios[kind], with_details(kind)
+            if mouth and r.eri is not None:
+                r.image, r.mouth_mask = mouth_fill.fill_interior(r.image, lm["final"], source_expression, s_exp, tgt_img, t_neu, layout)
+            results[m] = r
+        return results

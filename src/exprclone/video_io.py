@@ -44,6 +44,8 @@ _MUXERS: dict[str, tuple[str, dict[str, str]]] = {
     ".mov": ("mov", {"movflags": "+faststart"}),
     ".mkv": ("matroska", {}),
 }
+#: file extensions a video can be written as.
+EXTENSIONS = tuple(_MUXERS)
 _STILL_IMAGE_FORMATS = ("image2", "image2pipe")  # FFmpeg also reads photos, as one-frame videos
 _AAC = av.Codec("aac", "w")
 # The colour tags (FFmpeg's AVCOL_* codes) written: BT.709 matrix, primaries and transfer, limited

@@ -1,0 +1,145 @@
+"""Driving a portrait from the GRID clips: smoothing, mouth motion, head motion, the command."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from conftest import GRID, neutral_path
+
+from exprclone import pipeline, video
+from exprclone.images import load_image
+from exprclone.video_io import probe, read_frames
+
+PORTRAIT = neutral_path("003")
+CLIPS = sorted(GRID.glob("*.mpg"))
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "exprclone", *map(str, args)], capture_output=True, text=True)
+
+
+def opening(points):
+    """Mean inner-lip gap of each frame: (T, 68, 2) -> (T,)."""
+    return np.linalg.norm(points[:, [61, 62, 63]] - points[:, [67, 66, 65]], axis=2).mean(1)
+
+
+def mouth_jitter(points):
+    """Mean size of the mouth landmarks' second difference over time, in eye distances."""
+    mouth = points[:, 48:68]
+    iod = np.linalg.norm(points[:, 45] - points[:, 36], axis=1).mean()
+    return np.linalg.norm(mouth[2:] - 2 * mouth[1:-1] + mouth[:-2], axis=2).mean() / iod
+
+
+@pytest.fixture(scope="module")
+def portrait(london):
+    return video.resize_portrait(load_image(PORTRAIT), None, 256)[0]
+
+
+@pytest.fixture(scope="module")
+def driven(portrait, grid_clip):
+    """The portrait driven by a clip with smoothing (as shipped) and without."""
+    out = {}
+    for smooth in (True, False):
+        driver = video.Driver(portrait, None, str(grid_clip), smooth=smooth)
+        out[smooth] = driver, list(driver.frames())
+    return out
+
+
+def test_output_is_smoother_than_raw_detections_and_follows_the_mouth(driven, grid_clip):
+    """The issue's check: less jitter than the raw per-frame fits, mouth opening correlation above 0.9."""
+    detector = pipeline.default_detector()
+    raw = np.array([detector.fit(f, detector.faces(f)[0]) for f in read_frames(grid_clip)])
+    final = {s: np.array([f.result.landmarks["final"] for f in frames]) for s, (_, frames) in driven.items()}
+    assert mouth_jitter(final[True]) < 0.7 * mouth_jitter(final[False])
+    assert np.corrcoef(opening(raw), opening(final[True]))[0, 1] > 0.9
+
+
+def test_every_frame_is_rendered_at_the_portrait_size_with_one_lambda(driven, portrait):
+    driver, frames = driven[True]
+    assert [f.index for f in frames] == list(range(75))
+    assert all(f.image.shape == portrait.shape for f in frames)
+    assert driver.neutral_index == int(np.argmax(driver.track.found))
+    assert len(driver.lambda_frames) == video.LAMBDA_FRAMES
+    assert min(np.diff(sorted(driver.lambda_frames))) >= 12  # half a second apart at 25 fps
+    assert {f.result.lambda_k for f in frames} == {driver.lambda_k}
+    assert frames[driver.neutral_index].result.mouth_mask is None  # the neutral frame is the neutral face
+
+
+def test_head_motion_is_carried_as_the_same_rotation_and_scale(driven):
+    """The source's head similarity, moved into the portrait's frame, keeps its angle and scale."""
+    driver, _ = driven[True]
+    s_neu = driver.cloner.s_neu
+    angle, scale = np.deg2rad(6), 1.05
+    turn = np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]) * scale
+    moved = (s_neu - s_neu.mean(0)) @ turn.T + s_neu.mean(0) + (3, -2)
+    t = driver._head_motion(moved)
+    assert np.isclose(np.hypot(t[0, 0], t[1, 0]), scale)
+    assert np.isclose(np.arctan2(t[1, 0], t[0, 0]), angle)
+    assert np.allclose(driver._head_motion(s_neu), [[1, 0, 0], [0, 1, 0]], atol=1e-9)
+
+
+def test_neutral_photo_of_the_source(portrait, grid_clip):
+    """The source's neutral face may be a photo instead of a frame."""
+    frame = next(f for i, f in enumerate(read_frames(grid_clip)) if i == 3)
+    driver = video.Driver(portrait, None, str(grid_clip), source_neutral=(frame, None), method="global")
+    assert driver.neutral_index is None and driver.lambda_k is None
+    first = next(driver.frames())
+    assert first.image.shape == portrait.shape
+
+
+@pytest.mark.parametrize("clip", CLIPS, ids=[c.stem for c in CLIPS])
+def test_command_drives_a_portrait_with_every_clip(clip, tmp_path):
+    out = tmp_path / "out.mp4"
+    p = run("video", PORTRAIT, clip, "-o", out, "--size", 160, "--side-by-side")
+    assert p.returncode == 0, p.stderr
+    info = probe(out)
+    assert (info.frames, info.fps, info.height, info.has_audio) == (75, 25, 160, True)
+    assert info.width == 160 + 200  # the 360x288 driving frame scaled to 160 high, then the portrait
+    assert "a face on every frame" in p.stdout
+    assert os.listdir(tmp_path) == ["out.mp4"]
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["missing.mp4"], "missing.mp4: no such file"),
+        ([PORTRAIT], "not a video"),
+        (["{clip}", "--neutral-frame", "500"], "no frame 500"),
+        (["{clip}", "--size", "4"], "--size"),
+    ],
+)
+def test_bad_input_is_one_line_and_no_output(args, message, grid_clip, tmp_path):
+    out = tmp_path / "out.mp4"
+    args = [str(a).format(clip=grid_clip) for a in args]
+    p = run("video", PORTRAIT, *args, "-o", out)
+    assert p.returncode == 2 and message in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
+    assert os.listdir(tmp_path) == []
+
+
+def test_output_over_the_driving_video_is_refused(grid_clip, tmp_path):
+    copy = tmp_path / "clip.mp4"
+    copy.write_bytes(grid_clip.read_bytes())
+    p = run("video", PORTRAIT, copy, "-o", copy)
+    assert p.returncode == 2 and "overwrite" in p.stderr
+    assert copy.read_bytes() == grid_clip.read_bytes()
+
+
+def test_a_run_failing_half_way_leaves_no_file(portrait, grid_clip, tmp_path, monkeypatch):
+    from exprclone import cli
+    from exprclone.errors import ExprCloneError
+
+    render = pipeline.Cloner.clone_methods
+    calls = []
+
+    def failing(self, *args, **kwargs):
+        calls.append(1)
+        if len(calls) > 20:
+            raise ExprCloneError("simulated failure")
+        return render(self, *args, **kwargs)
+
+    monkeypatch.setattr(pipeline.Cloner, "clone_methods", failing)
+    out = tmp_path / "out.mp4"
+    assert cli.main(["video", str(PORTRAIT), str(grid_clip), "-o", str(out), "--size", "128", "--method", "global"]) == 2
+    assert len(calls) > 20 and os.listdir(tmp_path) == []
