@@ -1,8 +1,9 @@
 import numpy as np
 import pytest
 
-from exprclone import tracking
+from exprclone import mouth, tracking
 from exprclone.errors import ExprCloneError
+from exprclone.layout import DLIB68
 from exprclone.pipeline import default_detector
 from exprclone.video_io import read_frames
 
@@ -48,15 +49,9 @@ def test_smoothing_removes_jitter_but_keeps_the_mouth_motion(detected):
     """Jitter (the second difference over time) drops; the mouth opening still follows."""
     smoothed = tracking.smooth(detected, 25)
 
-    def jitter(p):
-        mouth = p[:, 48:68]
-        return np.linalg.norm(mouth[2:] - 2 * mouth[1:-1] + mouth[:-2], axis=2).mean()
-
-    def opening(p):
-        return np.linalg.norm(p[:, [61, 62, 63]] - p[:, [67, 66, 65]], axis=2).mean(1)
-
-    assert jitter(smoothed) < 0.7 * jitter(detected)
-    a, b = opening(smoothed), opening(detected)
+    lips = DLIB68.mouth_outer + DLIB68.mouth_inner
+    assert tracking.jitter(smoothed, lips) < 0.7 * tracking.jitter(detected, lips)
+    a, b = (np.array([mouth.opening(p, DLIB68) for p in points]) for points in (smoothed, detected))
     assert np.corrcoef(a, b)[0, 1] > 0.9
     lags = range(-3, 4)
     shifted = [np.corrcoef(a[3 + lag : len(a) - 3 + lag], b[3:-3])[0, 1] for lag in lags]

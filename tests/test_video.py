@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 from conftest import GRID, neutral_path
 
-from exprclone import pipeline, video
+from exprclone import mouth, pipeline, tracking, video
 from exprclone.images import load_image
+from exprclone.layout import DLIB68
 from exprclone.video_io import probe, read_frames
 
 PORTRAIT = neutral_path("003")
@@ -20,16 +21,12 @@ def run(*args):
     return subprocess.run([sys.executable, "-m", "exprclone", *map(str, args)], capture_output=True, text=True)
 
 
+MOUTH = DLIB68.mouth_outer + DLIB68.mouth_inner
+
+
 def opening(points):
-    """Mean inner-lip gap of each frame: (T, 68, 2) -> (T,)."""
-    return np.linalg.norm(points[:, [61, 62, 63]] - points[:, [67, 66, 65]], axis=2).mean(1)
-
-
-def mouth_jitter(points):
-    """Mean size of the mouth landmarks' second difference over time, in eye distances."""
-    mouth = points[:, 48:68]
-    iod = np.linalg.norm(points[:, 45] - points[:, 36], axis=1).mean()
-    return np.linalg.norm(mouth[2:] - 2 * mouth[1:-1] + mouth[:-2], axis=2).mean() / iod
+    """The mouth opening (inner-lip area over squared width) of each frame: (T, 68, 2) -> (T,)."""
+    return np.array([mouth.opening(p, DLIB68) for p in points])
 
 
 @pytest.fixture(scope="module")
@@ -47,13 +44,33 @@ def driven(portrait, grid_clip):
     return out
 
 
-def test_output_is_smoother_than_raw_detections_and_follows_the_mouth(driven, grid_clip):
-    """The issue's check: less jitter than the raw per-frame fits, mouth opening correlation above 0.9."""
+def raw_landmarks(clip):
+    """The driver's landmarks as the detector finds them afresh on every frame (None: no face)."""
     detector = pipeline.default_detector()
-    raw = np.array([detector.fit(f, detector.faces(f)[0]) for f in read_frames(grid_clip)])
+    return [detector.fit(f, b[0]) if (b := detector.faces(f)) else None for f in read_frames(clip)]
+
+
+def test_output_is_smoother_than_the_raw_detections(driven):
+    """The issue's check, first half: less jitter in the output's mouth than with the raw per-frame fits."""
     final = {s: np.array([f.result.landmarks["final"] for f in frames]) for s, (_, frames) in driven.items()}
-    assert mouth_jitter(final[True]) < 0.7 * mouth_jitter(final[False])
-    assert np.corrcoef(opening(raw), opening(final[True]))[0, 1] > 0.9
+    assert tracking.jitter(final[True], MOUTH) < 0.7 * tracking.jitter(final[False], MOUTH)
+
+
+def test_output_mouth_follows_the_driver_on_every_clip(portrait):
+    """The issue's check, second half: the mouth opening over time, driver against output.
+
+    The driver's opening comes from the detector run afresh on every frame (independent of
+    the tracker); the neutral face is the frame with the most closed mouth. Median over the
+    eleven clips above 0.9 (the noisiest, a moustached speaker, is about 0.8).
+    """
+    correlations = []
+    for clip in CLIPS:
+        raw = raw_landmarks(clip)
+        seen = [i for i, p in enumerate(raw) if p is not None]
+        driver = video.Driver(portrait, None, str(clip), neutral_frame="closed")
+        final = np.array([f.result.landmarks["final"] for f in driver.frames()])
+        correlations.append(np.corrcoef(opening(np.array([raw[i] for i in seen])), opening(final[seen]))[0, 1])
+    assert np.median(correlations) > 0.9, correlations
 
 
 def test_every_frame_is_rendered_at_the_portrait_size_with_one_lambda(driven, portrait):

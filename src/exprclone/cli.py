@@ -31,6 +31,19 @@ def lambda_arg(text: str) -> float | str:
     return value
 
 
+def frame_arg(text: str) -> int | str:
+    """A frame number >= 0, or ``closed``."""
+    if text == "closed":
+        return text
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a frame number or 'closed', got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a frame number >= 0 or 'closed', got {text!r}")
+    return value
+
+
 def add_inputs(p: argparse.ArgumentParser) -> None:
     """The three photos, their optional landmark files and the clone options."""
     p.add_argument("source_neutral", help="photo of the source person, neutral")
@@ -94,9 +107,10 @@ def build_parser() -> argparse.ArgumentParser:
     neutral.add_argument("--source-neutral", metavar="IMAGE", help="a neutral photo of the source person (default: a video frame)")
     neutral.add_argument(
         "--neutral-frame",
-        type=int,
-        metavar="N",
-        help="the video frame (from 0) with the source's neutral face (default: the first with a face)",
+        type=frame_arg,
+        metavar="N|closed",
+        help="the video frame (from 0) with the source's neutral face, or closed: the one whose mouth is most closed"
+        " (default: the first frame with a face)",
     )
     v.add_argument("--method", choices=METHODS, default="e+md", help="method of the paper's Fig. 11 (default: e+md)")
     v.add_argument(

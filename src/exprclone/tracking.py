@@ -26,6 +26,7 @@ from scipy.signal import savgol_filter
 
 from .errors import ExprCloneError
 from .landmarks import Detector
+from .layout import DLIB68, Layout
 
 #: every this many frames the detector confirms that the tracked face is still there.
 CHECK_EVERY = 5
@@ -204,6 +205,28 @@ def track(frames: Iterable[np.ndarray], detector: Detector, name: str = "video")
         last = p if p is not None else last
         held.append(last)
     return Track(np.array(held), found, tracker.detections, tracker.checks)
+
+
+def jitter(points: np.ndarray, indices: Iterable[int], layout: Layout = DLIB68) -> float:
+    """Frame-to-frame jitter of some landmarks: the mean length of their second difference over time.
+
+    A steady motion has none; noise of standard deviation ``s`` per coordinate gives about
+    ``3.1 s`` (``sqrt(3 pi) s``). In eye distances (their mean over the frames).
+
+    Parameters
+    ----------
+    points : ndarray of shape (T, N, 2)
+    indices : iterable of int
+        The landmarks to measure (e.g. ``layout.mouth_outer + layout.mouth_inner``).
+
+    Returns
+    -------
+    float
+    """
+    chosen = points[:, list(indices)]
+    i, j = layout.eye_corners
+    iod = np.linalg.norm(points[:, j] - points[:, i], axis=1).mean()
+    return float(np.linalg.norm(chosen[2:] - 2 * chosen[1:-1] + chosen[:-2], axis=2).mean() / iod)
 
 
 def smooth(points: np.ndarray, fps: float) -> np.ndarray:

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from . import geometry, global_warp, tracking, video_io
+from . import geometry, global_warp, mouth, tracking, video_io
 from .eigenface import Eigenfaces
 from .errors import ExprCloneError
 from .landmarks import Detector
@@ -94,6 +94,26 @@ def expression_strength(neutral: np.ndarray, points: np.ndarray, layout: Layout)
     return np.array([np.linalg.norm(global_warp.remove_head_motion(neutral, p, layout) - neutral, axis=1).mean() / iod for p in points])
 
 
+def closed_mouth_frame(points: np.ndarray, usable: np.ndarray, layout: Layout) -> int:
+    """The first usable frame whose mouth opening (:func:`mouth.opening`) is the smallest.
+
+    Expression motion is measured from the neutral face, so a neutral frame with parted
+    lips makes every later closing of the lips a "negative" opening that the portrait
+    cannot show; the most closed mouth avoids that.
+
+    Parameters
+    ----------
+    points : ndarray of shape (T, N, 2)
+    usable : ndarray of shape (T,), bool
+
+    Returns
+    -------
+    int
+    """
+    opening = np.array([mouth.opening(p, layout) if ok else np.inf for p, ok in zip(points, usable)])
+    return int(np.argmin(opening))
+
+
 def strongest_frames(strength: np.ndarray, usable: np.ndarray, count: int, spacing: int) -> list[int]:
     """Up to ``count`` usable frames of greatest strength, at least ``spacing`` frames apart.
 
@@ -124,8 +144,10 @@ class Driver:
         The driving video.
     source_neutral : tuple of (image, points or None), optional
         A neutral photo of the source person; by default a frame of the video.
-    neutral_frame : int, optional
-        The video frame showing the source's neutral face (default: the first with a face).
+    neutral_frame : int or "closed", optional
+        The video frame showing the source's neutral face: its number, "closed" for the
+        frame with a face whose mouth is most closed (:func:`closed_mouth_frame`), or by
+        default the first frame with a face.
     method : str
         One of the methods of Fig. 11.
     lambda_k : float or "auto"
@@ -164,7 +186,7 @@ class Driver:
         video: str,
         *,
         source_neutral: tuple[np.ndarray, np.ndarray | None] | None = None,
-        neutral_frame: int | None = None,
+        neutral_frame: int | str | None = None,
         method: str = "e+md",
         lambda_k: float | str = "auto",
         lambda_per_frame: bool = False,
@@ -193,6 +215,8 @@ class Driver:
         else:
             if neutral_frame is None:
                 neutral_frame = int(np.argmax(self.track.found))
+            elif neutral_frame == "closed":
+                neutral_frame = closed_mouth_frame(self.points, self.track.found, layout)
             if not 0 <= neutral_frame < n:
                 raise ExprCloneError(f"{video}: no frame {neutral_frame} (it has {n} frames, numbered from 0)")
             if not self.track.found[neutral_frame]:
