@@ -18,30 +18,27 @@ from .errors import ExprCloneError
 EXIT_USAGE = 2
 
 
-def lambda_arg(text: str) -> float | str:
-    """``auto`` or a number >= 0 (``inf`` allowed: the local result)."""
-    if text == "auto":
-        return text
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected 'auto' or a number >= 0, got {text!r}") from None
-    if not value >= 0:
-        raise argparse.ArgumentTypeError(f"expected 'auto' or a number >= 0, got {text!r}")
-    return value
+def word_or_number(word: str, number: type):
+    """An argparse type: ``word``, or a ``number`` (int or float) >= 0."""
+
+    def parse(text: str) -> int | float | str:
+        if text == word:
+            return text
+        try:
+            value = number(text)
+        except ValueError:
+            value = None
+        if value is None or not value >= 0:
+            raise argparse.ArgumentTypeError(f"expected {word!r} or a number >= 0, got {text!r}")
+        return value
+
+    return parse
 
 
-def frame_arg(text: str) -> int | str:
-    """A frame number >= 0, or ``closed``."""
-    if text == "closed":
-        return text
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a frame number or 'closed', got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a frame number >= 0 or 'closed', got {text!r}")
-    return value
+#: ``auto`` or a number >= 0 (``inf`` allowed: the local result).
+lambda_arg = word_or_number("auto", float)
+#: ``closed`` or a frame number.
+frame_arg = word_or_number("closed", int)
 
 
 def add_inputs(p: argparse.ArgumentParser) -> None:
