@@ -11,7 +11,9 @@ source's mouth interior:
 2. matched to the target photo: its colour is scaled by the ratio of the two photos'
    eye whites (sclera), the one part of a face that, like teeth, is near white for
    everyone, so that the photo's exposure and colour cast carry over but not the
-   source's skin tone;
+   source's skin tone; then it is blurred to the target photo's sharpness and given
+   the target photo's noise (:func:`match_grain`), so teeth from a crisp photo do not
+   stand out in a soft or grainy one;
 3. blended inside the inner-lip polygon with a feathered edge that ends at the lip line,
    so the target's own lips stay the target's.
 """
@@ -22,13 +24,21 @@ import cv2
 import numpy as np
 from scipy.spatial import Delaunay
 
-from . import warp
+from . import geometry, warp
 from .layout import Layout
 
 #: inner-lip polygon area over the squared mouth width below which a mouth counts as closed.
 MIN_OPENING = 0.015
 #: feather of the blend, in mouth widths.
 FEATHER = 0.015
+#: the second blur of the gradient-ratio sharpness estimate (pixels).
+REBLUR = 1.0
+#: share of a face's pixels, the strongest gradients, taken as its edges.
+EDGE_SHARE = 0.02
+#: seed of the noise given to the pasted interior: the same inputs give the same image.
+NOISE_SEED = 0
+#: rows of luma weights (ITU-R BT.601).
+LUMA = np.array([0.299, 0.587, 0.114], np.float32)
 
 
 def mouth_width(landmarks: np.ndarray, layout: Layout) -> float:
@@ -53,8 +63,145 @@ def sclera_colour(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> n
     pixels = image[mask > 0].astype(np.float32)
     if len(pixels) < 8:
         return np.full(3, 200.0, np.float32)
-    luma = pixels @ np.array([0.299, 0.587, 0.114], np.float32)
+    luma = pixels @ LUMA
     return np.median(pixels[luma >= np.percentile(luma, 75)], axis=0)
+
+
+def face_box(image: np.ndarray, landmarks: np.ndarray, scale: float = 1.0) -> np.ndarray:
+    """The bounding box of the landmarks (brows to chin), float32, resized by ``scale``.
+
+    Resizing is bilinear, as the warp samples, so a face brought to another photo's scale
+    is as sharp and as noisy as its warped pixels are there.
+    """
+    lo = np.maximum(np.floor(landmarks.min(0)).astype(int), 0)
+    hi = np.minimum(np.ceil(landmarks.max(0)).astype(int) + 1, (image.shape[1], image.shape[0]))
+    box = image[lo[1] : hi[1], lo[0] : hi[0]].astype(np.float32)
+    if scale == 1.0:
+        return box
+    size = (max(int(round(box.shape[1] * scale)), 8), max(int(round(box.shape[0] * scale)), 8))
+    return cv2.resize(box, size, interpolation=cv2.INTER_LINEAR)
+
+
+def blur_sigma(image: np.ndarray) -> float:
+    """How blurred an image is: the Gaussian sigma (pixels) of its edges.
+
+    The gradient-ratio estimate of Zhuo and Sim: an edge blurred by ``sigma`` and
+    blurred again by ``sigma_0`` (:data:`REBLUR`) keeps ``1 / R`` of its gradient, with
+    ``R = sqrt(sigma**2 + sigma_0**2) / sigma``, so ``sigma = sigma_0 / sqrt(R**2 - 1)``;
+    the median over the strongest gradients (:data:`EDGE_SHARE` of the pixels, edges).
+    Sobel's own smoothing adds the same amount to every estimate, so two estimates
+    compare.
+
+    Parameters
+    ----------
+    image : ndarray of shape (H, W, 3) or (H, W)
+
+    Returns
+    -------
+    float
+
+    References
+    ----------
+    S. Zhuo and T. Sim, "Defocus map estimation from a single image", Pattern
+    Recognition 44(9), 2011.
+
+    Examples
+    --------
+    >>> step = np.zeros((64, 64), np.float32)
+    >>> step[:, 32:] = 200
+    >>> soft = blur_sigma(cv2.GaussianBlur(step, (0, 0), 3.0))
+    >>> sharp = blur_sigma(cv2.GaussianBlur(step, (0, 0), 1.0))
+    >>> bool(2.5 < soft < 3.5 and sharp < soft)
+    True
+    """
+    luma = image @ LUMA if image.ndim == 3 else np.asarray(image, np.float32)
+
+    def gradient(im: np.ndarray) -> np.ndarray:
+        return cv2.magnitude(cv2.Sobel(im, cv2.CV_32F, 1, 0), cv2.Sobel(im, cv2.CV_32F, 0, 1))
+
+    g = gradient(luma)
+    edges = g >= max(np.percentile(g, 100 * (1 - EDGE_SHARE)), 1e-3)
+    ratio = g[edges] / np.maximum(gradient(cv2.GaussianBlur(luma, (0, 0), REBLUR))[edges], 1e-6)
+    ratio = ratio[ratio > 1.0 + 1e-4]
+    return float(np.median(REBLUR / np.sqrt(ratio**2 - 1))) if len(ratio) else 0.0
+
+
+def noise_sigma(image: np.ndarray) -> np.ndarray:
+    """Standard deviation of each channel's noise.
+
+    Immerkaer's estimate, in its robust form: the mask ``N`` below cancels every plane
+    and every quadratic surface, so ``I * N`` is the noise times ``N``, whose norm is 6;
+    its median absolute value over 0.6745 is the robust standard deviation (edges are
+    few, so the median ignores them).
+
+    ``N = [[1, -2, 1], [-2, 4, -2], [1, -2, 1]]``
+
+    Parameters
+    ----------
+    image : ndarray of shape (H, W, 3), float32
+
+    Returns
+    -------
+    ndarray of shape (3,)
+
+    References
+    ----------
+    J. Immerkaer, "Fast noise variance estimation", Computer Vision and Image
+    Understanding 64(2), 1996.
+
+    Examples
+    --------
+    >>> noise = np.random.default_rng(0).normal(0, 5.0, (200, 200, 3)).astype(np.float32)
+    >>> noise_sigma(noise + 100).round(1).tolist()
+    [5.0, 5.0, 5.0]
+    """
+    mask = np.array([[1, -2, 1], [-2, 4, -2], [1, -2, 1]], np.float32)
+    response = cv2.filter2D(np.asarray(image, np.float32), -1, mask)[1:-1, 1:-1]
+    return np.median(np.abs(response).reshape(-1, image.shape[2]), axis=0) / (0.6745 * 6)
+
+
+def match_grain(
+    patch: np.ndarray,
+    source: np.ndarray,
+    source_landmarks: np.ndarray,
+    target: np.ndarray,
+    target_landmarks: np.ndarray,
+    scale: float,
+    gain: np.ndarray,
+) -> np.ndarray:
+    """Blur and noise a patch of the source photo until they are the target photo's.
+
+    Both are measured on the face (:func:`face_box`), the source's brought to the
+    target's scale first, as its pixels are in the patch: the patch is blurred by the
+    Gaussian that takes the source's edge blur to the target's (:func:`blur_sigma`;
+    nothing when the target is the sharper: lost detail is not made up), then given
+    Gaussian noise, seeded by :data:`NOISE_SEED`, that brings the noise left in it
+    (:func:`noise_sigma` of the source face so blurred, times the tone ``gain``) up
+    to the target's.
+
+    Parameters
+    ----------
+    patch : ndarray of shape (h, w, 3), float32
+        Source pixels warped into the target photo, tone-matched by ``gain``.
+    source, target : ndarray of shape (H, W, 3), uint8
+        The two photos, and ``source_landmarks``, ``target_landmarks`` their landmarks.
+    scale : float
+        Target pixels per source pixel in the patch.
+    gain : ndarray of shape (3,)
+        The tone match applied to the patch.
+
+    Returns
+    -------
+    ndarray of shape (h, w, 3), float32
+    """
+    source_face = face_box(source, source_landmarks, scale)
+    target_face = face_box(target, target_landmarks)
+    sigma = np.sqrt(max(blur_sigma(target_face) ** 2 - blur_sigma(source_face) ** 2, 0.0))
+    if sigma > 0:
+        patch = cv2.GaussianBlur(patch, (0, 0), sigma)
+        source_face = cv2.GaussianBlur(source_face, (0, 0), sigma)
+    missing = np.sqrt(np.maximum(noise_sigma(target_face) ** 2 - (gain * noise_sigma(source_face)) ** 2, 0.0))
+    return patch + np.random.default_rng(NOISE_SEED).normal(0.0, 1.0, patch.shape).astype(np.float32) * missing.astype(np.float32)
 
 
 def fill_interior(
@@ -77,7 +224,8 @@ def fill_interior(
     source : ndarray of shape (h, w, 3), uint8
         The source's expression photo, and ``source_landmarks`` its landmarks.
     target_reference : ndarray of shape (H, W, 3), uint8
-        The target's own photo, and ``target_landmarks`` its landmarks (for the tone match).
+        The target's own photo, and ``target_landmarks`` its landmarks (for the tone,
+        sharpness and noise match).
     layout : Layout
 
     Returns
@@ -101,6 +249,8 @@ def fill_interior(
     patch = warp.warp(source, src, local, triangles, (hi[1] - lo[1], hi[0] - lo[0])).astype(np.float32)
     gain = np.clip(sclera_colour(target_reference, target_landmarks, layout) / sclera_colour(source, source_landmarks, layout), 0.5, 2.0)
     patch *= gain
+    scale = geometry.interocular(final, layout) / geometry.interocular(source_landmarks, layout)
+    patch = match_grain(patch, source, source_landmarks, target_reference, target_landmarks, scale, gain)
 
     polygon = np.zeros(patch.shape[:2], np.float32)
     cv2.fillPoly(polygon, [np.round(local[len(layout.mouth_outer) : len(mouth)] * 16).astype(np.int32)], 1.0, shift=4)
