@@ -118,6 +118,20 @@ def test_closed_mouth_source_changes_nothing(photo):
     assert on.mouth_mask is None and np.array_equal(on.image, off.image)
 
 
+def test_closed_lips_the_fitter_left_apart_paste_nothing(photo):
+    """Source 005's smile is closed, but the fitted inner lips enclose some of her full lips."""
+    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("005"), photo("005", "smile"), photo("006")
+    lms = (sn_lm, se_lm, tn_lm)
+    on = exprclone.clone(sn, se, tn, method="global+eri", landmarks=lms)
+    off = exprclone.clone(sn, se, tn, method="global+eri", landmarks=lms, mouth=False)
+    # both polygons have area: only what the source shows between its lips says "closed"
+    assert mouth.opening(lips.uncross(se_lm, DLIB68), DLIB68) > mouth.MIN_OPENING
+    assert mouth.opening(on.landmarks["final"], DLIB68) > mouth.MIN_OPENING
+    teeth, cavity = mouth.interior(se, lips.uncross(se_lm, DLIB68), DLIB68)
+    assert teeth.sum() + cavity.sum() < mouth.MIN_INTERIOR * mouth.mouth_width(se_lm, DLIB68) ** 2
+    assert on.mouth_mask is None and np.array_equal(on.image, off.image)
+
+
 def test_geometric_methods_never_paste(open_pair, photo):
     (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("126"), photo("126", "smile"), photo("100")
     r = exprclone.clone(sn, se, tn, method="global", landmarks=(sn_lm, se_lm, tn_lm))

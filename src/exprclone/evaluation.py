@@ -16,23 +16,20 @@ person's real smile, a clone of A's smile onto B can be compared with B's own sm
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
 
 from . import geometry
 from .landmarks import model_path
 from .layout import Layout
-from .mouth import LUMA, mouth_width
+from .mouth import interior, mouth_width
 
 #: dlib's threshold: descriptors closer than this are the same person.
 SAME_PERSON = 0.6
-#: a pixel is tooth-coloured below this share of the lips' median saturation.
-TOOTH_SATURATION = 0.6
 #: teeth show from this area of tooth-coloured pixels on, in squared mouth widths: 12 mm²
 #: in a 55 mm wide smile, a sliver one front tooth wide and 1.5 mm high. On the London
 #: Set's 72 people (detected landmarks) it lies between the most a closed mouth scores
 #: (0.0028, a lip piercing; no closed smile above 0.0011) and the least of the 36 smiles
-#: that show teeth (0.0055).
+#: that show teeth to the eye (0.0055).
 TEETH_SHOWN = 0.004
 
 
@@ -69,13 +66,10 @@ def teeth(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> float:
     """Area of tooth-coloured pixels inside the inner lips, in squared mouth widths.
 
     Teeth are told from lips, tongue and the dark mouth cavity by being paler and
-    brighter than the lips around them: a pixel inside the inner-lip polygon is
-    tooth-coloured when its saturation (HSV) is below :data:`TOOTH_SATURATION` times the
-    lips' median and its luma above the lips' median. The lips (between the outer and
-    the inner lip polygons) are the face's own reference, lit as the mouth is, so the
-    measure holds for every skin tone and exposure, where the eye whites of a squinting
-    smile do not. A closed mouth, whose inner-lip polygon has no area, scores 0; teeth
-    are shown from :data:`TEETH_SHOWN` on.
+    brighter than the lips around them (:func:`exprclone.mouth.interior`); the lips are
+    the reference because they are lit as the mouth is, where the eye whites of a
+    squinting smile are not there to see. A closed mouth, whose inner-lip polygon has no
+    area, scores 0; teeth show from :data:`TEETH_SHOWN` on.
 
     Parameters
     ----------
@@ -88,17 +82,7 @@ def teeth(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> float:
     -------
     float
     """
-    inner = np.zeros(image.shape[:2], np.uint8)
-    outer = inner.copy()
-    cv2.fillPoly(inner, [np.round(landmarks[list(layout.mouth_inner)] * 16).astype(np.int32)], 1, shift=4)
-    cv2.fillPoly(outer, [np.round(landmarks[list(layout.mouth_outer)] * 16).astype(np.int32)], 1, shift=4)
-    lip = (outer > 0) & (inner == 0)
-    if not lip.any() or not inner.any():
-        return 0.0
-    saturation = cv2.cvtColor(image, cv2.COLOR_RGB2HSV)[..., 1].astype(np.float32)
-    luma = image.astype(np.float32) @ LUMA
-    tooth = (saturation < TOOTH_SATURATION * np.median(saturation[lip])) & (luma > np.median(luma[lip])) & (inner > 0)
-    return float(tooth.sum() / max(mouth_width(landmarks, layout), 1e-9) ** 2)
+    return float(interior(image, landmarks, layout)[0].sum() / max(mouth_width(landmarks, layout), 1e-9) ** 2)
 
 
 class FaceDescriptor:

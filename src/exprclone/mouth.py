@@ -4,7 +4,11 @@ Not in the paper. Warping a closed neutral mouth open cannot create teeth: the l
 stretched over where the teeth should be, and the paper's ERI and MD steps change
 shading, not content. Where the final geometry opens the target's mouth and the source's
 expression shows an open mouth, the inside of the target's inner lips is filled with the
-source's mouth interior:
+source's mouth interior. The source's mouth counts as open when its inner-lip polygon
+has area and shows what is not lip (:func:`interior`: teeth, or the dark cavity):
+landmark fitters often leave the inner lips of full, closed lips apart, and pasting
+what lies between them would paste lips.
+
 
 1. warped from the source's inner-lip polygon to the target's (a piecewise-affine warp
    over the lips and the polygon's centre);
@@ -29,6 +33,16 @@ from .layout import Layout
 
 #: inner-lip polygon area over the squared mouth width below which a mouth counts as closed.
 MIN_OPENING = 0.015
+#: a pixel is tooth-coloured below this share of the lips' median saturation (and brighter
+#: than the lips' median).
+TOOTH_SATURATION = 0.6
+#: a pixel is the mouth's cavity below this share of the lips' median luma.
+CAVITY = 0.5
+#: teeth and cavity, in squared mouth widths, from which a source's mouth is open. On the
+#: London Set's 72 smiles and 72 neutral photos (detected landmarks), closed mouths show at
+#: most 0.0045 (the shadow of the lip line, a lip piercing) and smiles that show teeth
+#: 0.010 and more.
+MIN_INTERIOR = 0.007
 #: feather of the blend, in mouth widths.
 FEATHER = 0.015
 #: the second blur of the gradient-ratio sharpness estimate (pixels).
@@ -53,6 +67,46 @@ def opening(landmarks: np.ndarray, layout: Layout) -> float:
     x, y = inner[:, 0], inner[:, 1]
     area = 0.5 * abs(np.dot(x, np.roll(y, 1)) - np.dot(y, np.roll(x, 1)))
     return float(area / max(mouth_width(landmarks, layout), 1e-9) ** 2)
+
+
+def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> tuple[np.ndarray, np.ndarray]:
+    """The teeth and the dark cavity inside the inner lips, told from the lips around them.
+
+    The lips (between the outer and the inner lip polygons) are the face's own
+    reference, lit as the mouth is, so the rule holds for every skin tone and exposure:
+    a pixel inside the inner-lip polygon is tooth-coloured when paler than the lips
+    (saturation in HSV below :data:`TOOTH_SATURATION` times theirs, median) and
+    brighter; it is cavity when darker than :data:`CAVITY` times their median luma.
+    Lips, and a tongue, are neither.
+
+    Parameters
+    ----------
+    image : ndarray of shape (H, W, 3), uint8 RGB
+    landmarks : ndarray of shape (N, 2)
+    layout : Layout
+
+    Returns
+    -------
+    teeth, cavity : ndarray of shape (H, W), bool
+    """
+    teeth = np.zeros(image.shape[:2], bool)
+    cavity = teeth.copy()
+    lo = np.maximum(np.floor(landmarks[list(layout.mouth_outer)].min(0)).astype(int), 0)
+    hi = np.minimum(np.ceil(landmarks[list(layout.mouth_outer)].max(0)).astype(int) + 1, (image.shape[1], image.shape[0]))
+    box = (slice(lo[1], hi[1]), slice(lo[0], hi[0]))
+    crop = image[box]
+    inner, outer = np.zeros(crop.shape[:2], np.uint8), np.zeros(crop.shape[:2], np.uint8)
+    cv2.fillPoly(inner, [np.round((landmarks[list(layout.mouth_inner)] - lo) * 16).astype(np.int32)], 1, shift=4)
+    cv2.fillPoly(outer, [np.round((landmarks[list(layout.mouth_outer)] - lo) * 16).astype(np.int32)], 1, shift=4)
+    lip, inner = (outer > 0) & (inner == 0), inner > 0
+    if not lip.any() or not inner.any():
+        return teeth, cavity
+    saturation = cv2.cvtColor(crop, cv2.COLOR_RGB2HSV)[..., 1].astype(np.float32)
+    luma = crop.astype(np.float32) @ LUMA
+    lip_luma = np.median(luma[lip])
+    teeth[box] = inner & (saturation < TOOTH_SATURATION * np.median(saturation[lip])) & (luma > lip_luma)
+    cavity[box] = inner & (luma < CAVITY * lip_luma)
+    return teeth, cavity
 
 
 def sclera_colour(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> np.ndarray:
@@ -231,11 +285,15 @@ def fill_interior(
     Returns
     -------
     image : ndarray of shape (H, W, 3), uint8
-        Unchanged (the same array) when either mouth is closed.
+        Unchanged (the same array) when either mouth is closed, or the source's shows
+        too little of its interior (:data:`MIN_INTERIOR`).
     mask : ndarray of shape (H, W) or None
         Weight of the pasted interior, None when nothing was pasted.
     """
     if opening(final, layout) < MIN_OPENING or opening(source_landmarks, layout) < MIN_OPENING:
+        return image, None
+    shown = sum(int(part.sum()) for part in interior(source, source_landmarks, layout))
+    if shown < MIN_INTERIOR * mouth_width(source_landmarks, layout) ** 2:
         return image, None
     mouth = list(layout.mouth_outer + layout.mouth_inner)
     inner = list(layout.mouth_inner)
