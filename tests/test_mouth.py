@@ -36,13 +36,17 @@ def test_opened_mouth_shows_the_source_teeth(open_pair):
     inside = on.mouth_mask > 0.95  # where the paste is whole; the rest is the feathered edge
     assert inside.sum() > 0.5 * polygon.sum() and not (inside & ~polygon).any()
     source_inside = polygon_mask(se.shape, se_lm[INNER], shrink=4)
-    gain = np.clip(mouth.sclera_colour(tn, tn_lm, DLIB68) / mouth.sclera_colour(se, se_lm, DLIB68), 0.5, 2.0)
+    gain = mouth.tone_gain(se, se_lm, tn, tn_lm, DLIB68, pasted=se[source_inside])
     expected = se[source_inside].astype(float).mean(0) * gain  # the source interior, tone-matched
     pasted = np.abs(on.image[inside].astype(float).mean(0) - expected).mean()
     stretched = np.abs(off.image[inside].astype(float).mean(0) - expected).mean()
     assert stretched > 5 * pasted, (pasted, stretched)  # "far better than the stretched lips"
     # teeth are bright: the mouth interior is now brighter than the stretched lips were
     assert on.image[inside].mean() > off.image[inside].mean() + 20
+    # but not flat white: the source's teeth are unclipped, and so are the pasted ones
+    # (her eye whites read darker than the target's, and the tone match would have glared)
+    assert (se[source_inside].max(1) == 255).mean() < 0.01
+    assert (on.image[inside].max(1) == 255).mean() < 0.02
 
 
 @pytest.fixture(scope="module")
@@ -130,6 +134,18 @@ def test_closed_lips_the_fitter_left_apart_paste_nothing(photo):
     teeth, cavity = mouth.interior(se, lips.uncross(se_lm, DLIB68), DLIB68)
     assert teeth.sum() + cavity.sum() < mouth.MIN_INTERIOR * mouth.mouth_width(se_lm, DLIB68) ** 2
     assert on.mouth_mask is None and np.array_equal(on.image, off.image)
+
+
+def test_a_squinting_source_has_its_eye_whites_read_on_its_neutral_photo(photo):
+    (sn, sn_lm), (se, se_lm) = photo("013"), photo("013", "smile")
+    # her smile onto her own neutral photo: the right gain is the change of exposure
+    # between the two, which the studio wall in the corner shows (the smile is 6% darker)
+    wall = sn[10:110, 10:110].reshape(-1, 3).mean(0) / se[10:110, 10:110].reshape(-1, 3).mean(0)
+    squinting = mouth.tone_gain(se, se_lm, sn, sn_lm, DLIB68)
+    read_open = mouth.tone_gain(se, se_lm, sn, sn_lm, DLIB68, source_neutral=(sn, sn_lm))
+    assert np.abs(np.log(squinting / wall)).min() > 0.4, squinting  # read on the squint, the teeth glare
+    # her face flushes as she smiles, so its median tells the exposure only to about 10%
+    assert np.abs(np.log(read_open / wall)).max() < 0.15, (read_open, wall)
 
 
 def test_geometric_methods_never_paste(open_pair, photo):
