@@ -278,7 +278,7 @@ def _share(share: float, of: int) -> str:
 
 
 def write_report(out: Path, data: Dataset, rows: list[dict], landmarks: dict, methods: tuple[str, ...], command: str) -> str:
-    """``pairs.csv``, ``summary.md`` and the gallery of the best, median and worst e+md pairs."""
+    """``pairs.csv``, ``summary.md`` and the gallery (:func:`_gallery`) of e+md pairs."""
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "pairs.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, FIELDS)

@@ -9,7 +9,6 @@ has area and shows what is not lip (:func:`interior`: teeth, or the dark cavity)
 landmark fitters often leave the inner lips of full, closed lips apart, and pasting
 what lies between them would paste lips.
 
-
 1. warped from the source's inner-lip polygon to the target's (a piecewise-affine warp
    over the lips and the polygon's centre);
 2. matched to the target photo: its colour is scaled by the ratio of the two photos'
@@ -17,9 +16,9 @@ what lies between them would paste lips.
    everyone, so that the photo's exposure and colour cast carry over but not the
    source's skin tone (:func:`tone_gain`; a smile often squints, so the source's eye
    whites are best read on its neutral photo), but never so much that teeth the source
-   photo shows unclipped turn to flat white; then it is blurred to the target photo's sharpness and given
-   the target photo's noise (:func:`match_grain`), so teeth from a crisp photo do not
-   stand out in a soft or grainy one;
+   photo shows unclipped turn flat white; then it is blurred to the target photo's
+   sharpness and given the target photo's noise (:func:`match_grain`), so teeth from a
+   crisp photo do not stand out in a soft or grainy one;
 3. blended inside the inner-lip polygon with a feathered edge that ends at the lip line,
    so the target's own lips stay the target's.
 """
@@ -53,7 +52,7 @@ REBLUR = 1.0
 EDGE_SHARE = 0.02
 #: seed of the noise given to the pasted interior: the same inputs give the same image.
 NOISE_SEED = 0
-#: rows of luma weights (ITU-R BT.601).
+#: weights of R, G and B in the luma (ITU-R BT.601).
 LUMA = np.array([0.299, 0.587, 0.114], np.float32)
 
 
