@@ -1,11 +1,12 @@
 """The scores of exprclone evaluate: they must measure what they claim."""
 
+import cv2
 import numpy as np
 import pytest
 
 from exprclone import geometry
 from exprclone.evaluate import Dataset, smile_strength, summarise
-from exprclone.evaluation import SAME_PERSON, FaceDescriptor, identity_distance, landmark_error
+from exprclone.evaluation import SAME_PERSON, TEETH_SHOWN, FaceDescriptor, identity_distance, landmark_error, teeth
 from exprclone.layout import DLIB68
 
 
@@ -64,6 +65,28 @@ def test_pairs_are_reproducible_and_of_different_people(london):
     assert len(data.pairs(0, seed=0)) == 72 * 71
 
 
+def test_teeth_tell_smiles_showing_teeth_from_closed_mouths(photo):
+    showing = [teeth(*photo(face_id, "smile"), DLIB68) for face_id in ("126", "107")]
+    closed = [teeth(*photo(face_id, kind), DLIB68) for face_id, kind in (("126", "neutral"), ("003", "smile"), ("001", "smile"))]
+    assert min(showing) >= TEETH_SHOWN > max(closed), (showing, closed)
+
+
+def test_teeth_covered_with_lip_colour_stop_counting(photo):
+    image, landmarks = photo("107", "smile")
+    inner, outer = (np.zeros(image.shape[:2], np.uint8) for _ in range(2))
+    cv2.fillPoly(inner, [np.round(landmarks[list(DLIB68.mouth_inner)]).astype(np.int32)], 1)
+    cv2.fillPoly(outer, [np.round(landmarks[list(DLIB68.mouth_outer)]).astype(np.int32)], 1)
+    lip_colour = np.median(image[(outer > 0) & (inner == 0)], axis=0)
+    left = (inner > 0) & (np.arange(image.shape[1]) < landmarks[62, 0])[None, :]
+    before = teeth(image, landmarks, DLIB68)
+    half, whole = image.copy(), image.copy()
+    half[left] = lip_colour
+    whole[inner > 0] = lip_colour
+    assert before >= TEETH_SHOWN
+    assert 0 < teeth(half, landmarks, DLIB68) < 0.8 * before  # a broad smile shows teeth on both sides
+    assert teeth(whole, landmarks, DLIB68) == 0
+
+
 def test_summary_counts_failures_and_never_drops_them():
     def row(method, pair, mouth, failed="", smile=0.05):
         score = "" if failed else mouth
@@ -77,6 +100,8 @@ def test_summary_counts_failures_and_never_drops_them():
             "mouth": score,
             "eyes_brows": score,
             "identity": "" if failed else 0.3 + mouth * 10,
+            "teeth": "" if failed else 0.0,
+            "source_teeth": 0.0,
         }
 
     rows = [
@@ -93,3 +118,37 @@ def test_summary_counts_failures_and_never_drops_them():
     # paired with global only where both succeeded: (0.01 - 0.02 + 0.035 - 0.04) / 2
     assert e["mouth_vs_baseline"] == pytest.approx(-0.0075) and g["mouth_vs_baseline"] == 0
     assert summarise(rows, strong_only=True)[0]["pairs"] == 1
+
+
+def test_summary_counts_teeth_against_the_source():
+    def row(method, pair, teeth, source_teeth, failed=""):
+        return dict(
+            source=pair[0],
+            target=pair[1],
+            method=method,
+            target_smile=0.1,
+            failed=failed,
+            overall=0.02,
+            mouth=0.02,
+            eyes_brows=0.02,
+            identity=0.3,
+            teeth="" if failed else teeth,
+            source_teeth=source_teeth,
+        )
+
+    shows, closed = 2 * TEETH_SHOWN, 0.0
+    rows = [
+        row("e+md", "ab", shows, shows),
+        row("e+md", "ac", closed, shows),
+        row("e+md", "ad", shows, shows),
+        row("e+md", "ae", "", shows, failed="no face found"),  # failures are counted apart
+        row("e+md", "ba", shows, closed),
+        row("e+md", "bc", closed, closed),
+        row("global", "ab", closed, shows),
+        row("global", "ba", closed, closed),
+    ]
+    e, g = summarise(rows)
+    assert (e["teeth_sources"], e["teeth_kept"]) == (3, pytest.approx(2 / 3))
+    assert (e["closed_sources"], e["teeth_invented"]) == (2, pytest.approx(1 / 2))
+    assert (g["teeth_sources"], g["teeth_kept"], g["closed_sources"], g["teeth_invented"]) == (1, 0.0, 1, 0.0)
+    assert e["failed"] == 1

@@ -1,8 +1,43 @@
+import cv2
 import numpy as np
 import pytest
 
 from exprclone import lips
 from exprclone.layout import DLIB68
+from exprclone.mouth import mouth_width
+
+INNER, OUTER = list(DLIB68.mouth_inner), list(DLIB68.mouth_outer)
+
+
+def farthest_outside(landmarks):
+    """How far (pixels) the inner-lip polygon reaches outside the outer lips, by OpenCV.
+
+    Every vertex and points every quarter pixel along every edge are tested; 0 when all
+    are inside or on the edge.
+    """
+    contour = landmarks[OUTER].astype(np.float32).reshape(-1, 1, 2)
+    ring = landmarks[INNER]
+    worst = 0.0
+    for a, b in zip(ring, np.roll(ring, -1, axis=0)):
+        for t in np.linspace(0, 1, int(4 * np.linalg.norm(b - a)) + 2):
+            p = a + t * (b - a)
+            worst = min(worst, cv2.pointPolygonTest(contour, (float(p[0]), float(p[1])), True))
+    return -worst
+
+
+def self_intersecting(polygon):
+    """Whether two non-adjacent edges of a closed polygon cross."""
+    n = len(polygon)
+
+    def side(o, p, q):
+        return (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0])
+
+    for i in range(n):
+        for j in range(i + 2, n - (i == 0)):
+            a, b, c, d = polygon[i], polygon[(i + 1) % n], polygon[j], polygon[(j + 1) % n]
+            if side(a, b, c) * side(a, b, d) < 0 and side(c, d, a) * side(c, d, b) < 0:
+                return True
+    return False
 
 
 def test_crossed_inner_lips_close_and_open_ones_stay(pair):
@@ -20,7 +55,7 @@ def test_crossed_inner_lips_close_and_open_ones_stay(pair):
     assert np.array_equal(lips.uncross(opened, DLIB68), opened)
 
 
-def test_inner_lips_never_outside_the_outer_lips(pair):
+def test_inner_lips_above_or_below_the_outer_lips_move_onto_them(pair):
     _, (_, se, tn) = pair
     wild = tn.copy()
     wild[62, 1] = tn[51, 1] - 6  # upper inner lip above the upper outer lip
@@ -29,4 +64,52 @@ def test_inner_lips_never_outside_the_outer_lips(pair):
     for top, upper, lower, bottom in DLIB68.lip_columns:
         assert fixed[top, 1] <= fixed[upper, 1] + 1e-9 <= fixed[lower, 1] + 2e-9 <= fixed[bottom, 1] + 3e-9
     assert fixed[62, 1] == pytest.approx(tn[51, 1], abs=0.05) and fixed[66, 1] == pytest.approx(tn[57, 1], abs=0.05)
+    assert farthest_outside(fixed) < 1e-3
     assert np.array_equal(lips.uncross(se, DLIB68)[48:60], se[48:60])  # the outer lips never move
+
+
+@pytest.mark.parametrize("face", [("001", "neutral"), ("001", "smile"), ("003", "neutral"), ("100", "neutral"), ("126", "smile")])
+def test_real_inner_lips_end_inside_and_fitted_ones_inside_stay(photo, face):
+    _, landmarks = photo(*face)
+    assert farthest_outside(lips.uncross(landmarks, DLIB68)) < 1e-3
+    # the fitter put these inside already: pulling in leaves them exactly as they were
+    assert farthest_outside(landmarks) < 1e-3
+    assert np.array_equal(lips.inside_outer_lips(landmarks, DLIB68), landmarks)
+
+
+def test_inner_mouth_corners_outside_are_pulled_just_onto_the_outer_corners(pair):
+    _, (_, _, tn) = pair
+    right = (tn[54] - tn[48]) / np.linalg.norm(tn[54] - tn[48])
+    wild = tn.copy()
+    wild[60] = tn[48] - 0.1 * mouth_width(tn, DLIB68) * right
+    wild[64] = tn[54] + 0.1 * mouth_width(tn, DLIB68) * right
+    fixed = lips.inside_outer_lips(wild, DLIB68)
+    assert farthest_outside(fixed) < 1e-3
+    contour = tn[OUTER].astype(np.float32).reshape(-1, 1, 2)
+    for i in (60, 64):  # on the outer lips' edge: moved no further than needed
+        assert abs(cv2.pointPolygonTest(contour, tuple(map(float, fixed[i])), True)) < 0.01
+    others = [i for i in range(68) if i not in (60, 64)]
+    assert np.array_equal(fixed[others], wild[others])
+
+
+def test_inflated_inner_lips_come_back_inside_without_crossing(pair):
+    _, (_, se, tn) = pair
+    for landmarks in (se, tn):
+        centre = landmarks[OUTER].mean(0)
+        wild = landmarks.copy()
+        wild[INNER] = centre + 1.6 * (landmarks[INNER] - centre)  # every inner point outside
+        assert farthest_outside(wild) > 1
+        fixed = lips.uncross(wild, DLIB68)
+        assert farthest_outside(fixed) < 1e-3 and not self_intersecting(fixed[INNER])
+        assert np.array_equal(np.delete(fixed, INNER, axis=0), np.delete(wild, INNER, axis=0))
+
+
+def test_randomly_thrown_inner_lips_always_end_inside(pair):
+    _, (_, se, tn) = pair
+    rng = np.random.default_rng(7)
+    for k in range(40):
+        wild = (se, tn)[k % 2].copy()
+        wild[INNER] += rng.normal(0, 0.15 * mouth_width(wild, DLIB68), (len(INNER), 2))
+        fixed = lips.uncross(wild, DLIB68)
+        assert farthest_outside(fixed) < 1e-3, k
+        assert np.array_equal(np.delete(fixed, INNER, axis=0), np.delete(wild, INNER, axis=0))

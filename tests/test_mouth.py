@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import exprclone
-from exprclone import mouth
+from exprclone import lips, mouth
 from exprclone.layout import DLIB68
 
 INNER = list(DLIB68.mouth_inner)
@@ -36,13 +36,74 @@ def test_opened_mouth_shows_the_source_teeth(open_pair):
     inside = on.mouth_mask > 0.95  # where the paste is whole; the rest is the feathered edge
     assert inside.sum() > 0.5 * polygon.sum() and not (inside & ~polygon).any()
     source_inside = polygon_mask(se.shape, se_lm[INNER], shrink=4)
-    gain = np.clip(mouth.sclera_colour(tn, tn_lm, DLIB68) / mouth.sclera_colour(se, se_lm, DLIB68), 0.5, 2.0)
+    gain = mouth.tone_gain(se, se_lm, tn, tn_lm, DLIB68, pasted=se[source_inside])
     expected = se[source_inside].astype(float).mean(0) * gain  # the source interior, tone-matched
     pasted = np.abs(on.image[inside].astype(float).mean(0) - expected).mean()
     stretched = np.abs(off.image[inside].astype(float).mean(0) - expected).mean()
     assert stretched > 5 * pasted, (pasted, stretched)  # "far better than the stretched lips"
     # teeth are bright: the mouth interior is now brighter than the stretched lips were
     assert on.image[inside].mean() > off.image[inside].mean() + 20
+    # but not flat white: the source's teeth are unclipped, and so are the pasted ones
+    # (her eye whites read darker than the target's, and the tone match would have glared)
+    assert (se[source_inside].max(1) == 255).mean() < 0.01
+    assert (on.image[inside].max(1) == 255).mean() < 0.02
+
+
+@pytest.fixture(scope="module")
+def grain_pair(photo):
+    """Source 107 shows her teeth; target 005's mouth is closed.
+
+    Returns ``fill(degrade)``: the paste into the result without it, with the target
+    photo and that result both degraded alike (as cloning onto a degraded photo would
+    be); the paste into the untouched result; where the paste is whole (away from its
+    feathered edge); the target photo and its landmarks.
+    """
+    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("107"), photo("107", "smile"), photo("005")
+    off = exprclone.clone(sn, se, tn, method="e+md", landmarks=(sn_lm, se_lm, tn_lm), mouth=False)
+    source_lm, target_lm = lips.uncross(se_lm, DLIB68), lips.uncross(tn_lm, DLIB68)  # as the pipeline passes them
+
+    def fill(degrade):
+        return mouth.fill_interior(degrade(off.image), off.landmarks["final"], se, source_lm, degrade(tn), target_lm, DLIB68)
+
+    sharp, weight = fill(lambda im: im)
+    whole = cv2.erode((weight > 0.99).astype(np.uint8), np.ones((7, 7), np.uint8)).astype(bool)
+    return fill, sharp, whole, tn, tn_lm
+
+
+def high_frequency(image, region):
+    """Mean squared difference of the luma from its Gaussian blur (sigma 1.5 px) in ``region``."""
+    luma = image.astype(np.float32) @ mouth.LUMA
+    return float(np.mean((luma - cv2.GaussianBlur(luma, (0, 0), 1.5))[region] ** 2))
+
+
+def test_pasted_interior_is_as_soft_as_a_low_resolution_target(grain_pair):
+    fill, sharp, whole, tn, tn_lm = grain_pair
+    h, w = tn.shape[:2]
+
+    def low_res(im):  # a quarter of the resolution, brought back to the size
+        return cv2.resize(cv2.resize(im, (w // 4, h // 4), interpolation=cv2.INTER_AREA), (w, h), interpolation=cv2.INTER_LINEAR)
+
+    soft, _ = fill(low_res)
+    face = np.zeros((h, w), bool)
+    (x0, y0), (x1, y1) = tn_lm.min(0).astype(int), tn_lm.max(0).astype(int)
+    face[y0:y1, x0:x1] = True
+    target_loss = high_frequency(low_res(tn), face) / high_frequency(tn, face)
+    pasted_loss = high_frequency(soft, whole) / high_frequency(sharp, whole)
+    assert whole.sum() > 500
+    # unmatched, the paste would keep the sharp source's detail (a loss of 1): it must
+    # lose about what the target lost, closer to it than to 1 and not much beyond it
+    assert target_loss / 2 < pasted_loss < np.sqrt(target_loss), (pasted_loss, target_loss)
+
+
+def test_pasted_interior_is_as_noisy_as_a_noisy_target_and_reproducible(grain_pair):
+    fill, sharp, whole, *_ = grain_pair
+    rng = np.random.default_rng(3)
+    grainy, _ = fill(lambda im: np.clip(im + rng.normal(0, 8.0, im.shape), 0, 255).astype(np.uint8))
+    unclipped = whole & (sharp.min(2) > 10) & (sharp.max(2) < 245)
+    added = (grainy.astype(float) - sharp)[unclipped].std(axis=0)
+    assert unclipped.sum() > 500
+    assert added == pytest.approx([8.0, 8.0, 8.0], rel=0.15)  # the target's noise, not the clean source's
+    assert np.array_equal(fill(lambda im: im)[0], sharp)  # seeded: the same inputs, the same image
 
 
 def test_the_target_lips_stay_the_target(open_pair):
@@ -59,6 +120,32 @@ def test_closed_mouth_source_changes_nothing(photo):
     on = exprclone.clone(sn, se, tn, method="elastic+eri", landmarks=lms)
     off = exprclone.clone(sn, se, tn, method="elastic+eri", landmarks=lms, mouth=False)
     assert on.mouth_mask is None and np.array_equal(on.image, off.image)
+
+
+def test_closed_lips_the_fitter_left_apart_paste_nothing(photo):
+    """Source 005's smile is closed, but the fitted inner lips enclose some of her full lips."""
+    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("005"), photo("005", "smile"), photo("006")
+    lms = (sn_lm, se_lm, tn_lm)
+    on = exprclone.clone(sn, se, tn, method="global+eri", landmarks=lms)
+    off = exprclone.clone(sn, se, tn, method="global+eri", landmarks=lms, mouth=False)
+    # both polygons have area: only what the source shows between its lips says "closed"
+    assert mouth.opening(lips.uncross(se_lm, DLIB68), DLIB68) > mouth.MIN_OPENING
+    assert mouth.opening(on.landmarks["final"], DLIB68) > mouth.MIN_OPENING
+    teeth, cavity = mouth.interior(se, lips.uncross(se_lm, DLIB68), DLIB68)
+    assert teeth.sum() + cavity.sum() < mouth.MIN_INTERIOR * mouth.mouth_width(se_lm, DLIB68) ** 2
+    assert on.mouth_mask is None and np.array_equal(on.image, off.image)
+
+
+def test_a_squinting_source_has_its_eye_whites_read_on_its_neutral_photo(photo):
+    (sn, sn_lm), (se, se_lm) = photo("013"), photo("013", "smile")
+    # her smile onto her own neutral photo: the right gain is the change of exposure
+    # between the two, which the studio wall in the corner shows (the smile is 6% darker)
+    wall = sn[10:110, 10:110].reshape(-1, 3).mean(0) / se[10:110, 10:110].reshape(-1, 3).mean(0)
+    squinting = mouth.tone_gain(se, se_lm, sn, sn_lm, DLIB68)
+    read_open = mouth.tone_gain(se, se_lm, sn, sn_lm, DLIB68, source_neutral=(sn, sn_lm))
+    assert np.abs(np.log(squinting / wall)).min() > 0.4, squinting  # read on the squint, the teeth glare
+    # her face flushes as she smiles, so its median tells the exposure only to about 10%
+    assert np.abs(np.log(read_open / wall)).max() < 0.15, (read_open, wall)
 
 
 def test_geometric_methods_never_paste(open_pair, photo):

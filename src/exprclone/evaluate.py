@@ -6,6 +6,11 @@ smile (:mod:`exprclone.evaluation`). Two references share the table: ``no change
 neutral photo taken as the result: the floor) and ``real`` (B's real smile: the
 ceiling, zero landmark error by construction, its identity distance the natural one).
 
+Every row also says how much tooth shows in its image and in A's real smile
+(:func:`exprclone.evaluation.teeth`): of the pairs whose source shows teeth, the
+summary gives the share of results that show teeth too, and of the others, the share
+that shows teeth where the source showed none.
+
 A subtle real smile is a poor ground truth for a broad cloned one, so every table is
 also given for the pairs whose target smiles strongly: B's mouth corners move apart by
 at least :data:`STRONG_SMILE` (20%) between B's two photos, relative to the outer-eye
@@ -28,7 +33,7 @@ import numpy as np
 
 from . import geometry, global_warp
 from .errors import ExprCloneError
-from .evaluation import SAME_PERSON, FaceDescriptor, identity_distance, landmark_error
+from .evaluation import SAME_PERSON, TEETH_SHOWN, FaceDescriptor, identity_distance, landmark_error, teeth
 from .images import load_image, save_image
 from .layout import DLIB68
 from .mouth import mouth_width
@@ -38,7 +43,20 @@ from .pipeline import clone_methods, default_detector
 #: strong smile: the top 29% of the London Set's 72 people (median 15%, quartiles 11% and 22%).
 STRONG_SMILE = 0.20
 REFERENCES = ("no change", "real")
-FIELDS = ("source", "target", "method", "target_smile", "failed", "overall", "mouth", "eyes_brows", "identity", "lambda_k")
+FIELDS = (
+    "source",
+    "target",
+    "method",
+    "target_smile",
+    "failed",
+    "overall",
+    "mouth",
+    "eyes_brows",
+    "identity",
+    "teeth",
+    "source_teeth",
+    "lambda_k",
+)
 
 
 @dataclass(frozen=True)
@@ -108,8 +126,9 @@ def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], l
         One row of :data:`FIELDS` per method and reference.
     """
     a, b = pair
-    tn, ts = data.path(b, False), data.path(b, True)
+    tn, ts, source_smile = data.path(b, False), data.path(b, True), data.path(a, True)
     truth = landmarks[ts]
+    source_teeth = teeth(_photo(source_smile), landmarks[source_smile], DLIB68)
     target_descriptor = _descriptor()(_photo(tn), landmarks[tn])
     target_smile = smile_strength(landmarks[tn], truth)
     candidates: dict[str, tuple[np.ndarray | None, str, float | None]] = {
@@ -125,12 +144,14 @@ def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], l
     for method, (image, failed, lam) in candidates.items():
         row = dict.fromkeys(FIELDS, "")
         row.update(source=a, target=b, method=method, target_smile=round(target_smile, 4), lambda_k="" if lam is None else lam)
+        row["source_teeth"] = round(source_teeth, 5)
         if image is not None:
             try:
                 known = {"real": landmarks[ts], "no change": landmarks[tn]}
                 found = known[method] if method in known else default_detector().detect(image, f"{method} result")
                 row.update(landmark_error(found, truth, DLIB68))
                 row["identity"] = identity_distance(_descriptor()(image, found), target_descriptor)
+                row["teeth"] = round(teeth(image, found, DLIB68), 5)
             except ExprCloneError as e:
                 failed = str(e)
         row["failed"] = failed
@@ -193,6 +214,11 @@ def summarise(rows: list[dict], strong_only: bool = False, baseline: str = "glob
     ``baseline`` method over the pairs where both succeeded, with its standard error:
     differences between methods are small beside the spread between pairs, and pairing
     removes that spread.
+
+    Teeth, over the pairs that succeeded: ``teeth_sources`` pairs whose source's real
+    smile shows teeth (:data:`TEETH_SHOWN`), of which the share ``teeth_kept`` of
+    results show teeth; ``closed_sources`` pairs whose source shows none, of which the
+    share ``teeth_invented`` of results show teeth all the same.
     """
     out = []
     methods = list(dict.fromkeys(r["method"] for r in rows))
@@ -210,6 +236,10 @@ def summarise(rows: list[dict], strong_only: bool = False, baseline: str = "glob
         diff = np.array([r["mouth"] - base[r["source"], r["target"]] for r in ok if (r["source"], r["target"]) in base], float)
         line["mouth_vs_baseline"] = float(diff.mean()) if len(diff) else float("nan")
         line["mouth_vs_baseline_se"] = float(diff.std(ddof=1) / np.sqrt(len(diff))) if len(diff) > 1 else float("nan")
+        for shown_in_source, count, share in ((True, "teeth_sources", "teeth_kept"), (False, "closed_sources", "teeth_invented")):
+            group = [float(r["teeth"]) >= TEETH_SHOWN for r in ok if (float(r["source_teeth"]) >= TEETH_SHOWN) == shown_in_source]
+            line[count] = len(group)
+            line[share] = float(np.mean(group)) if group else float("nan")
         out.append(line)
     return out
 
@@ -226,18 +256,29 @@ def table(summary: list[dict]) -> str:
         "eyes+brows mean / median",
         "identity mean / median",
         "identity < 0.6",
+        "shows teeth: source does",
+        "shows teeth: source does not",
     ]
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     for s in summary:
         cell = lambda k: f"{s[k + '_mean']:.4f} / {s[k + '_median']:.4f}"  # noqa: E731
         paired = f"{s['mouth_vs_baseline']:+.4f} ± {s['mouth_vs_baseline_se']:.4f}"
         values = [s["method"], s["pairs"], s["failed"], cell("overall"), cell("mouth"), paired, cell("eyes_brows"), cell("identity")]
-        lines.append("| " + " | ".join(map(str, values)) + f" | {100 * s['same_person']:.0f}% |")
+        values += [
+            f"{100 * s['same_person']:.0f}%",
+            _share(s["teeth_kept"], s["teeth_sources"]),
+            _share(s["teeth_invented"], s["closed_sources"]),
+        ]
+        lines.append("| " + " | ".join(map(str, values)) + " |")
     return "\n".join(lines)
 
 
+def _share(share: float, of: int) -> str:
+    return f"{100 * share:.0f}% of {of}" if of else "-"
+
+
 def write_report(out: Path, data: Dataset, rows: list[dict], landmarks: dict, methods: tuple[str, ...], command: str) -> str:
-    """``pairs.csv``, ``summary.md`` and the gallery of the best, median and worst e+md pairs."""
+    """``pairs.csv``, ``summary.md`` and the gallery (:func:`_gallery`) of e+md pairs."""
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "pairs.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, FIELDS)
@@ -253,7 +294,10 @@ def write_report(out: Path, data: Dataset, rows: list[dict], landmarks: dict, me
         f"{n_pairs} ordered pairs of different people from `{data.root}`;",
         "each method's result is scored against the target's real smile. Landmark errors are in",
         "outer-eye-corner distances after similarity alignment; identity is dlib's face-descriptor",
-        "distance to the target's neutral photo (same person below 0.6).",
+        "distance to the target's neutral photo (same person below 0.6). Teeth show when tooth-coloured",
+        f"pixels (paler and brighter than the lips) cover at least {TEETH_SHOWN} squared mouth widths",
+        "inside the inner lips (`exprclone.evaluation.teeth`); the last two columns give, of the pairs",
+        "whose source's real smile shows teeth and of those whose does not, the share of results that do.",
         "",
         "## All pairs",
         "",
@@ -266,40 +310,72 @@ def write_report(out: Path, data: Dataset, rows: list[dict], landmarks: dict, me
     ]
     gallery = _gallery(out, data, rows, landmarks, "e+md" if "e+md" in methods else methods[-1])
     if gallery:
-        text += ["## Gallery", "", f"Best, median and worst pairs by mouth error: {gallery}", "", f"![gallery]({gallery})", ""]
+        text += [
+            "## Gallery",
+            "",
+            "Best, median and worst pairs by mouth error, and the median pair whose source shows teeth:",
+            "source smile, target neutral, result, target's real smile; under each, the mouths close up",
+            f"with their teeth measure: {gallery}",
+            "",
+            f"![gallery]({gallery})",
+            "",
+        ]
     (out / "summary.md").write_text("\n".join(text))
     return "\n".join(text)
 
 
 def _gallery(out: Path, data: Dataset, rows: list[dict], landmarks: dict, method: str) -> str | None:
-    """Rows of [source smile | target neutral | result | target real smile] for best, median, worst."""
+    """Best, median and worst pairs by mouth error, and the median one whose source shows teeth (if another).
+
+    Each: [source smile | target neutral | result | target real smile], and under it the
+    four mouths close up, each with its teeth measure (``shows`` from :data:`TEETH_SHOWN`).
+    """
     import cv2
 
     scored = sorted((r for r in rows if r["method"] == method and not r["failed"]), key=lambda r: r["mouth"])
     if not scored:
         return None
     picks = {"best": scored[0], "median": scored[len(scored) // 2], "worst": scored[-1]}
+    with_teeth = [r for r in scored if float(r["source_teeth"]) >= TEETH_SHOWN]
+    if with_teeth and not any(r is with_teeth[len(with_teeth) // 2] for r in picks.values()):
+        picks["median of sources showing teeth"] = with_teeth[len(with_teeth) // 2]
+    row_of = {(r["source"], r["target"], r["method"]): r for r in rows}
     strips = []
     for name, r in picks.items():
-        result = _clone(data, (r["source"], r["target"]), (method,), landmarks)[method]
+        a, b = r["source"], r["target"]
+        result = _clone(data, (a, b), (method,), landmarks)[method]
         cells = [
-            _photo(data.path(r["source"], True)),
-            _photo(data.path(r["target"], False)),
-            result.image,
-            _photo(data.path(r["target"], True)),
+            (_photo(data.path(a, True)), landmarks[data.path(a, True)], r["source_teeth"]),
+            (_photo(data.path(b, False)), landmarks[data.path(b, False)], row_of[a, b, "no change"]["teeth"]),
+            (result.image, result.landmarks["final"], r["teeth"]),
+            (_photo(data.path(b, True)), landmarks[data.path(b, True)], row_of[a, b, "real"]["teeth"]),
         ]
-        cells = [cv2.resize(c, (360, 360), interpolation=cv2.INTER_AREA) for c in cells]
-        strip = np.hstack(cells)
-        cv2.putText(
-            strip,
-            f"{name}: {r['source']} -> {r['target']}, mouth error {r['mouth']:.4f}",
-            (8, 24),
-            cv2.FONT_HERSHEY_SIMPLEX,
-            0.7,
-            (255, 255, 255),
-            2,
-            cv2.LINE_AA,
-        )
-        strips.append(strip)
+        faces = np.hstack([cv2.resize(image, (360, 360), interpolation=cv2.INTER_AREA) for image, _, _ in cells])
+        _caption(faces, f"{name}: {a} -> {b}, mouth error {r['mouth']:.4f}")
+        mouths = []
+        for image, points, amount in cells:
+            close_up = _mouth_close_up(image, points)
+            shows = amount != "" and float(amount) >= TEETH_SHOWN
+            _caption(close_up, "" if amount == "" else f"teeth {float(amount):.3f}{' shows' if shows else ''}")
+            mouths.append(close_up)
+        strips += [faces, np.hstack(mouths)]
     save_image(out / "gallery.jpg", np.vstack(strips))
     return "gallery.jpg"
+
+
+def _mouth_close_up(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
+    """The mouth, 1.4 mouth widths across and half as high, as a 360 x 180 image."""
+    import cv2
+
+    width = mouth_width(landmarks, DLIB68)
+    centre = landmarks[list(DLIB68.mouth_outer)].mean(0)
+    crop = cv2.getRectSubPix(image, (int(1.4 * width), int(0.7 * width)), (float(centre[0]), float(centre[1])))
+    return cv2.resize(crop, (360, 180), interpolation=cv2.INTER_AREA)
+
+
+def _caption(image: np.ndarray, text: str) -> None:
+    """White text, outlined in black, at the image's top left."""
+    import cv2
+
+    for colour, thickness in (((0, 0, 0), 4), ((255, 255, 255), 2)):
+        cv2.putText(image, text, (8, 24), cv2.FONT_HERSHEY_SIMPLEX, 0.7, colour, thickness, cv2.LINE_AA)
