@@ -321,6 +321,8 @@ class Cloner:
             elif m.endswith("+eri"):
                 r.eri, r.image = ratios[kind], with_details(kind)
             if mouth and r.eri is not None:
-                r.image, r.mouth_mask = mouth_fill.fill_interior(r.image, lm["final"], source_expression, s_exp, tgt_img, t_neu, layout)
+                r.image, r.mouth_mask = mouth_fill.fill_interior(
+                    r.image, lm["final"], source_expression, s_exp, tgt_img, t_neu, layout, source_neutral=(self.source_image, s_neu)
+                )
             results[m] = r
         return results
