@@ -19,12 +19,12 @@ at least :data:`STRONG_SMILE` (20%) between B's two photos, relative to the oute
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import functools
 import multiprocessing
 import os
 import sys
-import time
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -38,6 +38,7 @@ from .images import load_image, save_image
 from .layout import DLIB68
 from .mouth import mouth_width
 from .pipeline import clone_methods, default_detector
+from .progress import Bar
 
 #: relative widening of the mouth (corner distance / eye-corner distance) that makes a
 #: strong smile: the top 29% of the London Set's 72 people (median 15%, quartiles 11% and 22%).
@@ -178,33 +179,18 @@ def run(
     people = sorted({p for pair in pairs for p in pair})
     paths = [data.path(p, s) for p in people for s in (False, True)]
     landmarks = {}
+    bar = Bar(progress, len(paths), "landmarks")
     for k, path in enumerate(paths, 1):
         landmarks[path] = default_detector().detect(_photo(path), path)
-        _bar(progress, k, len(paths), "landmarks")
-    rows, start = [], time.time()
+        bar.update(k)
+    rows = []
     tasks = [(data, pair, methods, landmarks) for pair in pairs]
-    if jobs > 1:
-        with multiprocessing.get_context("fork").Pool(jobs) as pool:
-            for k, pair_rows in enumerate(pool.imap(_score, tasks), 1):
-                rows += pair_rows
-                _bar(progress, k, len(pairs), "pairs", time.time() - start)
-    else:
-        for k, task in enumerate(tasks, 1):
-            rows += _score(task)
-            _bar(progress, k, len(pairs), "pairs", time.time() - start)
+    bar = Bar(progress, len(pairs), "pairs")
+    with multiprocessing.get_context("fork").Pool(jobs) if jobs > 1 else contextlib.nullcontext() as pool:
+        for k, pair_rows in enumerate(pool.imap(_score, tasks) if pool else map(_score, tasks), 1):
+            rows += pair_rows
+            bar.update(k, f"{bar.elapsed / k:.1f} s each")
     return rows, landmarks
-
-
-def _bar(stream, done: int, total: int, what: str, elapsed: float | None = None) -> None:
-    if stream is None:
-        return
-    width = 30
-    filled = int(width * done / total)
-    rate = f" {elapsed / done:.1f} s each" if elapsed else ""
-    stream.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} {what}{rate}")
-    if done == total:
-        stream.write("\n")
-    stream.flush()
 
 
 def summarise(rows: list[dict], strong_only: bool = False, baseline: str = "global") -> list[dict]:
