@@ -23,7 +23,7 @@ def polygon_mask(shape, points, shrink=0):
 def open_pair(photo):
     """Source 126 smiles with her teeth; target 100's neutral mouth is closed."""
     (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("126"), photo("126", "smile"), photo("100")
-    assert mouth.opening(se_lm, DLIB68) > 3 * mouth.MIN_OPENING and mouth.opening(tn_lm, DLIB68) < mouth.MIN_OPENING
+    assert mouth.opening(se_lm, DLIB68) > 3 * mouth.OPENING[1] and mouth.opening(tn_lm, DLIB68) < mouth.OPENING[1]
     on = exprclone.clone(sn, se, tn, method="e+md", landmarks=(sn_lm, se_lm, tn_lm))
     off = exprclone.clone(sn, se, tn, method="e+md", landmarks=(sn_lm, se_lm, tn_lm), mouth=False)
     return on, off, se, se_lm, tn, tn_lm
@@ -115,7 +115,7 @@ def test_the_target_lips_stay_the_target(open_pair):
 
 def test_closed_mouth_source_changes_nothing(photo):
     (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("003"), photo("003", "smile"), photo("100")
-    assert mouth.opening(se_lm, DLIB68) < mouth.MIN_OPENING
+    assert mouth.opening(se_lm, DLIB68) < mouth.OPENING[0]
     lms = (sn_lm, se_lm, tn_lm)
     on = exprclone.clone(sn, se, tn, method="elastic+eri", landmarks=lms)
     off = exprclone.clone(sn, se, tn, method="elastic+eri", landmarks=lms, mouth=False)
@@ -129,10 +129,10 @@ def test_closed_lips_the_fitter_left_apart_paste_nothing(photo):
     on = exprclone.clone(sn, se, tn, method="global+eri", landmarks=lms)
     off = exprclone.clone(sn, se, tn, method="global+eri", landmarks=lms, mouth=False)
     # both polygons have area: only what the source shows between its lips says "closed"
-    assert mouth.opening(lips.uncross(se_lm, DLIB68), DLIB68) > mouth.MIN_OPENING
-    assert mouth.opening(on.landmarks["final"], DLIB68) > mouth.MIN_OPENING
+    assert mouth.opening(lips.uncross(se_lm, DLIB68), DLIB68) > mouth.OPENING[0]
+    assert mouth.opening(on.landmarks["final"], DLIB68) > mouth.OPENING[0]
     teeth, cavity = mouth.interior(se, lips.uncross(se_lm, DLIB68), DLIB68)
-    assert teeth.sum() + cavity.sum() < mouth.MIN_INTERIOR * mouth.mouth_width(se_lm, DLIB68) ** 2
+    assert teeth.sum() + cavity.sum() < mouth.INTERIOR[0] * mouth.mouth_width(se_lm, DLIB68) ** 2
     assert on.mouth_mask is None and np.array_equal(on.image, off.image)
 
 

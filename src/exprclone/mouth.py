@@ -32,18 +32,21 @@ from scipy.spatial import Delaunay
 from . import geometry, warp
 from .layout import Layout
 
-#: inner-lip polygon area over the squared mouth width below which a mouth counts as closed.
-MIN_OPENING = 0.015
+#: inner-lip polygon area over the squared mouth width (:func:`opening`): below the first
+#: value a mouth is closed, above the second fully open; in between the paste fades in, so
+#: that in a video the teeth appear as the lips part instead of popping in at once.
+OPENING = (0.010, 0.020)
 #: a pixel is tooth-coloured below this share of the lips' median saturation (and brighter
 #: than the lips' median).
 TOOTH_SATURATION = 0.6
 #: a pixel is the mouth's cavity below this share of the lips' median luma.
 CAVITY = 0.5
-#: teeth and cavity, in squared mouth widths, from which a source's mouth is open. On the
-#: London Set's 72 smiles and 72 neutral photos (detected landmarks), closed mouths show at
-#: most 0.0045 (the shadow of the lip line, a lip piercing) and smiles that show teeth
-#: 0.010 and more.
-MIN_INTERIOR = 0.007
+#: teeth and cavity between the lips (:func:`interior`), in squared mouth widths: below the
+#: first value a source's mouth shows nothing, above the second it is fully open, and the
+#: paste fades in between. On the London Set's 72 smiles and 72 neutral photos (detected
+#: landmarks), closed mouths show at most 0.0052 (the shadow of the lip line, a lip
+#: piercing) and smiles that show teeth 0.010 and more.
+INTERIOR = (0.005, 0.010)
 #: feather of the blend, in mouth widths.
 FEATHER = 0.015
 #: the second blur of the gradient-ratio sharpness estimate (pixels).
@@ -108,6 +111,18 @@ def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> tuple[
     teeth[box] = inner & (saturation < TOOTH_SATURATION * np.median(saturation[lip])) & (luma > lip_luma)
     cavity[box] = inner & (luma < CAVITY * lip_luma)
     return teeth, cavity
+
+
+def fade_in(value: float, band: tuple[float, float]) -> float:
+    """0 below ``band[0]``, 1 above ``band[1]``, linear in between.
+
+    Examples
+    --------
+    >>> [fade_in(v, (1, 3)) for v in (0, 2, 5)]
+    [0.0, 0.5, 1.0]
+    """
+    low, high = band
+    return float(np.clip((value - low) / (high - low), 0.0, 1.0))
 
 
 def sclera_colour(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> np.ndarray:
@@ -341,14 +356,16 @@ def fill_interior(
     -------
     image : ndarray of shape (H, W, 3), uint8
         Unchanged (the same array) when either mouth is closed, or the source's shows
-        too little of its interior (:data:`MIN_INTERIOR`).
+        too little of its interior (:data:`OPENING`, :data:`INTERIOR`).
     mask : ndarray of shape (H, W) or None
         Weight of the pasted interior, None when nothing was pasted.
     """
-    if opening(final, layout) < MIN_OPENING or opening(source_landmarks, layout) < MIN_OPENING:
+    weight = fade_in(opening(final, layout), OPENING) * fade_in(opening(source_landmarks, layout), OPENING)
+    if weight == 0:
         return image, None
     shown = sum(int(part.sum()) for part in interior(source, source_landmarks, layout))
-    if shown < MIN_INTERIOR * mouth_width(source_landmarks, layout) ** 2:
+    weight *= fade_in(shown / mouth_width(source_landmarks, layout) ** 2, INTERIOR)
+    if weight == 0:
         return image, None
     mouth = list(layout.mouth_outer + layout.mouth_inner)
     inner = list(layout.mouth_inner)
@@ -373,7 +390,7 @@ def fill_interior(
     # lip line and never reaches the lips
     k = max(1, int(round(sigma)))
     mask = cv2.erode(polygon, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * k + 1, 2 * k + 1)))
-    mask = cv2.GaussianBlur(mask, (0, 0), sigma) * polygon
+    mask = cv2.GaussianBlur(mask, (0, 0), sigma) * polygon * weight
 
     out = image.copy()
     box = (slice(lo[1], hi[1]), slice(lo[0], hi[0]))
