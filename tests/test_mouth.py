@@ -152,3 +152,24 @@ def test_geometric_methods_never_paste(open_pair, photo):
     (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("126"), photo("126", "smile"), photo("100")
     r = exprclone.clone(sn, se, tn, method="global", landmarks=(sn_lm, se_lm, tn_lm))
     assert r.mouth_mask is None
+
+
+def test_teeth_fade_out_as_the_source_shows_less(open_pair):
+    """No popping in a video: as the source's teeth are covered bit by bit, the paste fades, never jumps."""
+    on, _, se, se_lm, tn, tn_lm = open_pair
+    inner, outer = (np.zeros(se.shape[:2], np.uint8) for _ in range(2))
+    cv2.fillPoly(inner, [np.round(se_lm[INNER]).astype(np.int32)], 1)
+    cv2.fillPoly(outer, [np.round(se_lm[list(DLIB68.mouth_outer)]).astype(np.int32)], 1)
+    lip_colour = np.median(se[(outer > 0) & (inner == 0)], axis=0)
+    left, right = se_lm[INNER, 0].min(), se_lm[INNER, 0].max()
+    amounts, shown = [], []
+    for edge in np.linspace(left, right, 61):
+        covered = se.copy()
+        covered[(inner > 0) & (np.arange(se.shape[1]) < edge)[None, :]] = lip_colour
+        teeth, cavity = mouth.interior(covered, lips.uncross(se_lm, DLIB68), DLIB68)
+        shown.append((teeth.sum() + cavity.sum()) / mouth.mouth_width(se_lm, DLIB68) ** 2)
+        _, mask = mouth.fill_interior(on.image, on.landmarks["final"], covered, se_lm, tn, tn_lm, DLIB68)
+        amounts.append(0.0 if mask is None else float(mask.sum()))
+    amounts, shown = np.array(amounts), np.array(shown)
+    assert shown[0] > mouth.INTERIOR[1] and amounts[-1] == 0  # from all teeth to none
+    assert np.abs(np.diff(amounts)).max() < 0.3 * amounts[0]  # each step covers a little, each step fades a little
