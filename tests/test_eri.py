@@ -63,3 +63,25 @@ def test_texture_confidence_trusts_skin_not_hair(pair):
     assert conf[cheek[1], cheek[0]] > 0.9
     assert conf[hair[1], hair[0]] < 0.2
     assert conf.min() >= 0 and conf.max() <= 1
+
+
+def test_filters_on_the_shrunk_grid_match_full_resolution(pair, monkeypatch):
+    """The ERI is smooth at FILTER_SIGMA, so computing it shrunk and enlarging it changes little."""
+    (sn, se, target), (sn_lm, se_lm, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    iod = geometry.interocular(lm, DLIB68)
+    ctrl = [mesh.control_points(p, geometry.fit_similarity(lm[list(DLIB68.rigid)], p[list(DLIB68.rigid)])) for p in (sn_lm, se_lm)]
+    box = (slice(300, 1200), slice(250, 1100))
+    local = mesh.points - (box[1].start, box[0].start)
+    shape = (box[0].stop - box[0].start, box[1].stop - box[1].start)
+    neutral, expression = (warp.warp(im, c, local, mesh.triangles, shape) for im, c in zip((sn, se), ctrl))
+    mask = eri.ratio_mask(shape, local[: mesh.n_landmarks], local[mesh.forehead], DLIB68)
+    assert eri.filter_step(iod) >= 2
+    shrunk = eri.expression_ratio(neutral, expression, mask, iod)
+    monkeypatch.setattr(eri, "FILTER_PIXELS", np.inf)
+    assert eri.filter_step(iod) == 1
+    full = eri.expression_ratio(neutral, expression, mask, iod)
+    assert shrunk.shape == full.shape == shape and shrunk.dtype == full.dtype == np.float32
+    assert np.abs(full - 1).max() > 0.1  # there is something to compare
+    err = np.abs(shrunk - full)
+    assert err.max() < 0.01 and err.mean() < 2e-4
