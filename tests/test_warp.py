@@ -135,3 +135,27 @@ def test_meshes_of_more_than_255_triangles(pair):
     image = target[500:700, 500:800]
     assert warp.PiecewiseAffine.build(pts, pts, tri, image.shape[:2]).labels.dtype == np.int32
     assert np.abs(warp.warp(image, pts, pts, tri).astype(int) - image).max() <= 1
+
+
+def test_a_window_of_the_output_is_that_window_of_the_whole_warp(pair):
+    """Triangles outside a small output are dropped; that changes none of its pixels."""
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    dst = mesh.control_points(lm + 6 * np.stack([np.cos(lm[:, 1] / 70), np.sin(lm[:, 0] / 45)], 1))
+    whole = warp.warp(target, mesh.points, dst, mesh.triangles)
+    assert np.array_equal(warp.warp(target, mesh.points, dst, mesh.triangles, (300, 200)), whole[:300, :200])
+    x0, y0 = int(lm[:, 0].min()), int(lm[:, 1].min())
+    window = warp.warp(target, mesh.points, dst - (x0, y0), mesh.triangles, (250, 400))
+    assert np.abs(window.astype(int) - whole[y0 : y0 + 250, x0 : x0 + 400]).max() <= 1
+
+
+def test_a_closed_slit_maps_into_the_source(pair):
+    """A triangle of no area (collinear lips) still gets a finite map."""
+    (_, _, target), _ = pair
+    src = np.array([[-0.5, -0.5], [99.5, -0.5], [-0.5, 79.5], [99.5, 79.5], [30, 40], [50, 40], [70, 40]])
+    dst = src.copy()
+    tri = np.array([[0, 1, 4], [1, 5, 4], [1, 6, 5], [1, 3, 6], [3, 2, 6], [2, 5, 6], [2, 4, 5], [0, 4, 2], [4, 5, 6]])
+    pa = warp.PiecewiseAffine.build(src, dst, tri, (80, 100))
+    assert np.isfinite(pa.coeffs).all()
+    image = target[600:680, 600:700]
+    assert np.abs(warp.warp(image, src, dst, tri).astype(int) - image).max() <= 1

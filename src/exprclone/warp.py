@@ -231,7 +231,8 @@ class PiecewiseAffine:
     Attributes
     ----------
     labels : ndarray of shape (H, W)
-        For each output pixel, 1 + the index of its triangle; 0 outside every triangle.
+        For each output pixel, its triangle's label (1 + its index among the triangles
+        that reach into the output); 0 outside every triangle.
         uint8 with fewer than 256 labels (looked up by ``cv2.LUT``), int32 otherwise.
     coeffs : ndarray of shape (L, 3, 2)
         Per label, the affine map output -> source: ``[x y 1] @ coeffs[label] = [u v]``.
@@ -252,16 +253,26 @@ class PiecewiseAffine:
         triangles : ndarray of shape (T, 3)
         out_shape : (H, W)
         """
+        h, w = out_shape
+        # triangles wholly outside the output label no pixel (fillConvexPoly clips them)
+        lo, hi = dst[triangles].min(axis=1), dst[triangles].max(axis=1)
+        triangles = triangles[(hi[:, 0] >= -1) & (lo[:, 0] <= w) & (hi[:, 1] >= -1) & (lo[:, 1] <= h)]
         d = np.concatenate([dst[triangles], np.ones((len(triangles), 3, 1))], axis=2)
-        coeffs = np.linalg.pinv(d) @ src[triangles]  # (T, 3, 2)
+        # Affine dst -> src per triangle: d @ coeffs = src. Slivers of (almost) no area,
+        # such as the slit between closed lips, get the least-squares map of pinv.
+        solvable = np.abs(signed_areas(dst, triangles)) > 1e-6
+        coeffs = np.empty((len(triangles), 3, 2))
+        coeffs[solvable] = np.linalg.solve(d[solvable], src[triangles[solvable]])
+        if not solvable.all():
+            coeffs[~solvable] = np.linalg.pinv(d[~solvable]) @ src[triangles[~solvable]]
         coeffs = np.concatenate([np.full((1, 3, 2), -1e6), coeffs])
         labels = np.zeros(out_shape, np.uint8 if len(coeffs) <= 256 else np.int32)
         if labels.dtype == np.uint8:
             coeffs = np.resize(coeffs, (256, 3, 2))  # a full table for cv2.LUT
         shift = 4
         fixed = np.round(dst[triangles] * (1 << shift)).astype(np.int32)
-        for k, tri in enumerate(fixed):
-            cv2.fillConvexPoly(labels, tri, k + 1, lineType=cv2.LINE_8, shift=shift)
+        for label, tri in enumerate(fixed, 1):
+            cv2.fillConvexPoly(labels, tri, label, cv2.LINE_8, shift)
         return cls(labels, coeffs)
 
     def strips(self) -> list[slice]:
