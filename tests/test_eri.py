@@ -85,3 +85,16 @@ def test_filters_on_the_shrunk_grid_match_full_resolution(pair, monkeypatch):
     assert np.abs(full - 1).max() > 0.1  # there is something to compare
     err = np.abs(shrunk - full)
     assert err.max() < 0.01 and err.mean() < 2e-4
+
+
+def test_apply_details_is_eq_9_rounded(pair):
+    (_, _, target), _ = pair
+    image = target[400:700, 400:800]
+    rng = np.random.default_rng(0)
+    ratio = rng.uniform(*eri.CLAMP, image.shape[:2]).astype(np.float32)
+    importance = rng.uniform(1.0, 1.5, image.shape[:2]).astype(np.float32)
+    want = image * (1 + importance * (ratio - 1))[..., None]
+    got = eri.apply_details(image, ratio, importance)
+    assert got.dtype == np.uint8 and got.shape == image.shape
+    assert np.abs(got - np.clip(want, 0, 255)).max() <= 0.5 + 1e-3  # rounded to nearest, saturated
+    assert (got[want > 255] == 255).all()

@@ -163,6 +163,5 @@ def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | f
     ndarray of shape (H, W, 3), uint8
     """
     gain = (1.0 + importance * (eri - 1.0)).astype(np.float32)
-    out = image.astype(np.float32)
-    out *= gain[..., None]
-    return np.clip(out + 0.5, 0, 255).astype(np.uint8)
+    # one pass, rounded to nearest and saturated to [0, 255]
+    return cv2.multiply(image, cv2.merge([gain] * image.shape[2]), dtype=cv2.CV_8U)
