@@ -98,3 +98,16 @@ def test_apply_details_is_eq_9_rounded(pair):
     assert got.dtype == np.uint8 and got.shape == image.shape
     assert np.abs(got - np.clip(want, 0, 255)).max() <= 0.5 + 1e-3  # rounded to nearest, saturated
     assert (got[want > 255] == 255).all()
+
+
+@pytest.mark.parametrize("shape", [(90, 120), (91, 127)])
+def test_shrink_then_enlarge_keeps_a_smooth_image(shape):
+    ys, xs = np.mgrid[: shape[0], : shape[1]].astype(np.float32)
+    smooth = np.sin(xs / 15) + np.cos(ys / 11)
+    small = eri.shrink(smooth, 3)
+    assert small.shape == (shape[0] // 3, shape[1] // 3)
+    assert np.isclose(small[0, 0], smooth[:3, :3].mean(), atol=1e-5)  # block means
+    back = eri.enlarge(small, shape, 3)
+    assert back.shape == shape
+    assert np.abs(back - smooth)[3:-3, 3:-3].max() < 0.02  # bilinear error of a curve 11 pixels wide
+    assert np.abs(back - smooth).max() < 0.3  # the edge, repeated

@@ -36,8 +36,8 @@ CLAMP = (0.7, 1.4)
 TEXTURE_RANGE = (0.04, 0.10)
 #: feathering of the masks, sigma in inter-ocular distances.
 FEATHER = 0.04
-#: the ERI's filters run on a copy shrunk until FILTER_SIGMA spans this many pixels.
-FILTER_PIXELS = 4.0
+#: the ERI's filters run on a copy shrunk as far as FILTER_SIGMA still spans this many pixels.
+FILTER_PIXELS = 3.0
 
 
 def luminance(image: np.ndarray) -> np.ndarray:
@@ -75,20 +75,32 @@ def ratio_mask(shape: tuple[int, int], landmarks: np.ndarray, forehead: np.ndarr
     return np.clip(cv2.resize(mask, (shape[1], shape[0]), interpolation=cv2.INTER_LINEAR), 0.0, 1.0)
 
 
-def filter_step(iod: float) -> float:
-    """How much the ERI's filters may shrink the image: until :data:`FILTER_SIGMA` spans :data:`FILTER_PIXELS` pixels."""
-    return max(1.0, FILTER_SIGMA * iod / FILTER_PIXELS)
+def filter_step(iod: float) -> int:
+    """How many times the ERI's filters may shrink the image: :data:`FILTER_SIGMA` spans at least :data:`FILTER_PIXELS` pixels."""
+    return max(1, int(FILTER_SIGMA * iod / FILTER_PIXELS))
 
 
-def shrink(image: np.ndarray, step: float) -> np.ndarray:
-    """``image`` shrunk ``step`` times by area averaging (the image itself for ``step = 1``)."""
+def shrink(image: np.ndarray, step: int) -> np.ndarray:
+    """``image`` averaged over blocks of ``step x step`` pixels; a last partial block is left out.
+
+    A whole number of blocks takes OpenCV's fast path of area averaging.
+    """
     if step == 1:
         return image
-    h, w = image.shape[:2]
-    return cv2.resize(image, (max(1, round(w / step)), max(1, round(h / step))), interpolation=cv2.INTER_AREA)
+    h, w = image.shape[0] // step, image.shape[1] // step
+    return cv2.resize(image[: h * step, : w * step], (w, h), interpolation=cv2.INTER_AREA)
 
 
-def texture_confidence(y_neutral: np.ndarray, iod: float, step: float = 1.0) -> np.ndarray:
+def enlarge(image: np.ndarray, shape: tuple[int, int], step: int) -> np.ndarray:
+    """Undo :func:`shrink` to ``shape`` (bilinear; the left-out edge repeats its neighbour)."""
+    if step == 1:
+        return image
+    h, w = image.shape[0] * step, image.shape[1] * step
+    out = cv2.resize(image, (w, h), interpolation=cv2.INTER_LINEAR)
+    return cv2.copyMakeBorder(out, 0, shape[0] - h, 0, shape[1] - w, cv2.BORDER_REPLICATE)
+
+
+def texture_confidence(y_neutral: np.ndarray, iod: float, step: int = 1) -> np.ndarray:
     """Trust in the ratio, in [0, 1]: 1 on smooth skin, 0 where the neutral photo is textured.
 
     The texture is the local relative contrast: the RMS of the luminance's detail above
@@ -115,7 +127,7 @@ def expression_ratio(neutral_warped: np.ndarray, expression_warped: np.ndarray, 
     The ERI is low-pass filtered at ``FILTER_SIGMA * iod``, so everything after the
     per-pixel ratio is computed on a copy shrunk by :func:`filter_step` and enlarged at
     the end (bilinear), about five times faster at 1350 pixels. On six pairs of the
-    London Set this differs from working at full resolution by at most 0.007 in the
+    London Set this differs from working at full resolution by at most 0.006 in the
     ratio (2 grey levels of the result), 2e-5 on average.
 
     Parameters
@@ -141,8 +153,7 @@ def expression_ratio(neutral_warped: np.ndarray, expression_warped: np.ndarray, 
     if trusted.any():
         ratio /= max(float(np.median(ratio[trusted])), 1e-3)
     ratio = np.clip(ratio, *CLAMP)
-    eri = 1.0 + weight * (ratio - 1.0)
-    return eri if step == 1 else cv2.resize(eri, (mask.shape[1], mask.shape[0]), interpolation=cv2.INTER_LINEAR)
+    return enlarge(1.0 + weight * (ratio - 1.0), mask.shape, step)
 
 
 def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | float = 1.0) -> np.ndarray:
