@@ -4,7 +4,8 @@
 
 Prints, for the sample photos at 512x512 and at their full 1350x1350:
   * the median time of each stage (landmark detection of one photo, global, local,
-    elastic for one lambda_k, the lambda search, one mesh warp, the ERI, the MD mask);
+    elastic for one lambda_k and for all candidates, the lambda search, one mesh warp,
+    the ERI, the MD mask);
   * the median time of each method end to end, with landmarks known, and of e+md with
     landmark detection on all three photos included;
   * our piecewise-affine warp against scikit-image's PiecewiseAffineTransform + warp on
@@ -74,16 +75,10 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
         "global (landmarks)": median_ms(lambda: global_warp.global_landmarks(sn, se, tn, DLIB68), repeat),
         "local (landmarks)": median_ms(lambda: local_warp.local_landmarks(gl, se, DLIB68), repeat),
         "elastic (1 lambda)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, 1.0), repeat),
+        "elastic (13 lambdas at once, as clone does)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, lambdas), repeat),
         "lambda search (13 candidates + DB)": median_ms(
             lambda: metric.choose_lambda(
-                tn_img,
-                mesh,
-                [elastic.elastic_landmarks(gl, lo, nb, lam) for lam in lambdas],
-                lambdas,
-                se_img,
-                se,
-                default_eigenfaces(),
-                DLIB68,
+                tn_img, mesh, list(elastic.elastic_landmarks(gl, lo, nb, lambdas)), lambdas, se_img, se, default_eigenfaces(), DLIB68
             ),
             repeat,
         ),
