@@ -1,3 +1,4 @@
+import cv2
 import numpy as np
 import pytest
 
@@ -111,3 +112,16 @@ def test_shrink_then_enlarge_keeps_a_smooth_image(shape):
     assert back.shape == shape
     assert np.abs(back - smooth)[3:-3, 3:-3].max() < 0.02  # bilinear error of a curve 11 pixels wide
     assert np.abs(back - smooth).max() < 0.3  # the edge, repeated
+
+
+def test_luma_warped_instead_of_rgb_gives_nearly_the_same_ratio(pair):
+    (sn, se, target), (sn_lm, se_lm, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    iod = geometry.interocular(lm, DLIB68)
+    ctrl = [mesh.control_points(p, geometry.fit_similarity(lm[list(DLIB68.rigid)], p[list(DLIB68.rigid)])) for p in (sn_lm, se_lm)]
+    mask = eri.ratio_mask(target.shape[:2], lm, mesh.points[mesh.forehead], DLIB68)
+    rgb = [warp.warp(im, c, mesh.points, mesh.triangles) for im, c in zip((sn, se), ctrl)]
+    luma = [warp.warp(cv2.cvtColor(im, cv2.COLOR_RGB2GRAY), c, mesh.points, mesh.triangles) for im, c in zip((sn, se), ctrl)]
+    assert np.abs(eri.luminance(luma[0]) - eri.luminance(rgb[0])).max() <= 1.001 / 255
+    err = np.abs(eri.expression_ratio(*luma, mask, iod) - eri.expression_ratio(*rgb, mask, iod))
+    assert err.max() < 0.01 and err.mean() < 1e-4

@@ -41,8 +41,9 @@ FILTER_PIXELS = 3.0
 
 
 def luminance(image: np.ndarray) -> np.ndarray:
-    """Rec. 601 luma of a uint8 RGB image, float32 in [0, 1]."""
-    return cv2.cvtColor(image, cv2.COLOR_RGB2GRAY).astype(np.float32) / 255.0
+    """Rec. 601 luma of a uint8 RGB image, float32 in [0, 1]; a 2-D image is taken to be luma already."""
+    grey = cv2.cvtColor(image, cv2.COLOR_RGB2GRAY) if image.ndim == 3 else image
+    return grey.astype(np.float32) / 255.0
 
 
 def ratio_mask(shape: tuple[int, int], landmarks: np.ndarray, forehead: np.ndarray, layout: Layout) -> np.ndarray:
@@ -132,14 +133,16 @@ def expression_ratio(neutral_warped: np.ndarray, expression_warped: np.ndarray, 
 
     Parameters
     ----------
-    neutral_warped, expression_warped : ndarray of shape (H, W, 3), uint8
-        The source's two photos warped to the target's final geometry.
+    neutral_warped, expression_warped : ndarray of shape (H, W, 3) or (H, W), uint8
+        The source's two photos warped to the target's final geometry, RGB or their
+        luma (warping one channel instead of three is faster; the ratio differs by the
+        rounding of the luma, at most 1/255).
     mask : ndarray of shape (H, W)
         :func:`ratio_mask`.
     iod : float
         Inter-ocular distance of the target face, for the filter size.
     """
-    step = filter_step(iod)
+    step = min(filter_step(iod), *mask.shape)
     y_neutral = luminance(neutral_warped)
     ratio = shrink((luminance(expression_warped) + EPS) / (y_neutral + EPS), step)
     # Normalised convolution: the filter averages only trusted pixels, so the ratio of
