@@ -114,19 +114,12 @@ def test_maps_are_each_triangles_affine_map(pair):
 
 
 @pytest.mark.parametrize("channels", [(), (3,)])
-@pytest.mark.parametrize("threads", [1, 3])
-def test_strip_wise_warp_equals_one_remap_with_the_whole_maps(pair, channels, threads):
-    """Strips, and blocks of strips on threads of their own, change no pixel."""
+def test_strip_wise_warp_equals_one_remap_with_the_whole_maps(pair, channels):
     (_, _, target), (_, _, lm) = pair
     image = target if channels else target[..., 1].copy()
     mesh = warp.build_mesh(lm, target.shape, DLIB68)
     dst = mesh.control_points(lm + 5 * np.stack([np.cos(lm[:, 1] / 60), np.sin(lm[:, 0] / 50)], 1))
-    before = cv2.getNumThreads()
-    cv2.setNumThreads(threads)
-    try:
-        out = warp.warp(image, mesh.points, dst, mesh.triangles)
-    finally:
-        cv2.setNumThreads(before)
+    out = warp.warp(image, mesh.points, dst, mesh.triangles)
     map_x, map_y = warp.inverse_maps(mesh.points, dst, mesh.triangles, image.shape[:2])
     assert np.array_equal(out, cv2.remap(image, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE))
 

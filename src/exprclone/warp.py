@@ -17,8 +17,7 @@ The warp is vectorised: each output pixel gets the index of its triangle from a 
 image, then the inverse affine map of that triangle (:class:`PiecewiseAffine`);
 ``cv2.remap`` samples the source. Maps and sampling go strip by strip of rows, so the
 maps never exist at full size: they stay in the CPU cache, and no large temporary
-arrays are allocated (each costs page faults on first touch). A large output is cut
-into blocks of strips that threads map and sample side by side. Triangles that would
+arrays are allocated (each costs page faults on first touch). Triangles that would
 fold over are relaxed first (:func:`unfold`).
 """
 
@@ -26,7 +25,6 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Iterator
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import cv2
@@ -217,8 +215,6 @@ def unfold(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, n_moving: in
 
 #: output rows mapped and sampled at a time: the maps of a strip stay in the CPU cache.
 STRIP = 64
-#: a thread of its own for every this many strips of output, up to OpenCV's thread count.
-MIN_STRIPS_PER_THREAD = 4
 
 
 @functools.lru_cache(maxsize=8)
@@ -280,10 +276,8 @@ class PiecewiseAffine:
             cv2.fillConvexPoly(labels, tri, label, cv2.LINE_8, shift)
         return cls(labels, coeffs)
 
-    def strip_maps(self, block: slice = slice(None)) -> Iterator[tuple[slice, np.ndarray, np.ndarray]]:
+    def strip_maps(self) -> Iterator[tuple[slice, np.ndarray, np.ndarray]]:
         """``(rows, map_x, map_y)`` for ``cv2.remap``, strip by strip of :data:`STRIP` output rows.
-
-        ``block``, a slice of output rows, restricts it to those (a thread's share).
 
         Each map is ``a_x x + a_y (y - y0) + (a_0 + a_y y0)`` with the three coefficients
         looked up per pixel by its label (``y0`` the strip's first row, folded into the
@@ -291,17 +285,16 @@ class PiecewiseAffine:
         maps are float32 and are overwritten by the next strip's: one set of buffers
         serves every strip, since fresh arrays cost a page fault per 4 kB on first touch.
         """
-        start, stop, _ = block.indices(self.labels.shape[0])
-        w = self.labels.shape[1]
-        map_x, map_y, scratch = (np.empty((max(0, min(STRIP, stop - start)), w), np.float32) for _ in range(3))
+        h, w = self.labels.shape
+        map_x, map_y, scratch = (np.empty((min(STRIP, h), w), np.float32) for _ in range(3))
 
         def gather(labels: np.ndarray, table: np.ndarray, out: np.ndarray) -> np.ndarray:
             # cv2.LUT on 8-bit labels is several times faster than numpy's gather
             table = table.astype(np.float32)
             return cv2.LUT(labels, table, dst=out) if labels.dtype == np.uint8 else np.take(table, labels, out=out)
 
-        for y0 in range(start, stop, STRIP):
-            rows = slice(y0, min(y0 + STRIP, stop))
+        for y0 in range(0, h, STRIP):
+            rows = slice(y0, min(y0 + STRIP, h))
             labels = self.labels[rows]
             n = len(labels)
             xs, ys = strip_grid(n, w)
@@ -368,19 +361,6 @@ def warp(
     pa = PiecewiseAffine.build(np.asarray(src, float), np.asarray(dst, float), triangles, out_shape)
     out = np.empty(out_shape + image.shape[2:], image.dtype)
 
-    def sample(block: slice) -> None:
-        for rows, map_x, map_y in pa.strip_maps(block):
-            cv2.remap(image, map_x, map_y, cv2.INTER_LINEAR, dst=out[rows], borderMode=cv2.BORDER_REPLICATE)
-
-    # cv2.remap shares its work among OpenCV's threads, but the maps would be computed on
-    # one: a large output is cut into blocks of strips, one thread of our own each.
-    n_strips = -(-out_shape[0] // STRIP)
-    workers = max(1, min(cv2.getNumThreads(), n_strips // MIN_STRIPS_PER_THREAD))
-    cuts = [STRIP * (n_strips * k // workers) for k in range(workers)] + [out_shape[0]]
-    blocks = [slice(a, b) for a, b in zip(cuts, cuts[1:])]
-    if workers == 1:
-        sample(blocks[0])
-    else:
-        with ThreadPoolExecutor(workers) as pool:
-            list(pool.map(sample, blocks))
+    for rows, map_x, map_y in pa.strip_maps():
+        cv2.remap(image, map_x, map_y, cv2.INTER_LINEAR, dst=out[rows], borderMode=cv2.BORDER_REPLICATE)
     return out
