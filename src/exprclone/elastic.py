@@ -97,7 +97,7 @@ def net_force(p: np.ndarray, a_local: np.ndarray, springs: np.ndarray, lambda_k:
     return out
 
 
-def length(v: np.ndarray) -> np.ndarray:
+def vector_length(v: np.ndarray) -> np.ndarray:
     """Euclidean length of ``(..., 2)`` vectors (as ``np.linalg.norm(axis=-1)``, several times faster)."""
     return np.sqrt(v[..., 0] ** 2 + v[..., 1] ** 2)
 
@@ -163,12 +163,12 @@ def grid_search(
     lam = np.repeat(lambdas, n)
     # The window's corners A and A' are candidates of the first pass.
     best = a.copy()
-    best_norm = length(net_force(best[:, None], a_local, spring_force(best[:, None], a, b, count), lam))[:, 0]
+    best_norm = vector_length(net_force(best[:, None], a_local, spring_force(best[:, None], a, b, count), lam))[:, 0]
     rows = np.arange(len(a))
     half = (hi - lo) / 2
     for k in range(PASSES):
         cand = first if k == 0 else grid(best, half, lo, hi)
-        norms = length(net_force(cand, a_local, springs if k == 0 else spring_force(cand, a, b, count), lam))
+        norms = vector_length(net_force(cand, a_local, springs if k == 0 else spring_force(cand, a, b, count), lam))
         j = norms.argmin(axis=1)
         better = norms[rows, j] < best_norm
         best[better] = cand[rows, j][better]
