@@ -4,12 +4,14 @@
 
 Prints, for the sample photos at 512x512 and at their full 1350x1350:
   * the median time of each stage (landmark detection of one photo, global, local,
-    elastic for one lambda_k, the lambda search, one mesh warp, the ERI, the MD mask);
+    elastic for one lambda_k and for all candidates, the lambda search, one mesh warp,
+    the ERI, the MD mask);
   * the median time of each method end to end, with landmarks known, and of e+md with
     landmark detection on all three photos included;
   * our piecewise-affine warp against scikit-image's PiecewiseAffineTransform + warp on
     the same points and image, and against a bare cv2.remap with precomputed maps (the
-    floor for any warp), as ratios measured in the same run;
+    floor for any warp; measured in turn with ours, so both see the same load), as
+    ratios measured in the same run;
   * how e+md's time grows with image size (256, 512, 1024, 2048);
   * peak memory of one e+md clone at full size (a child process's max RSS), and the
     start-up time of the ``exprclone`` command.
@@ -45,6 +47,19 @@ def median_ms(fn, repeat: int) -> float:
     return 1000 * statistics.median(times)
 
 
+def interleaved_ms(fns: dict, repeat: int) -> dict[str, float]:
+    """Median times of several functions run in turn, so that all see the same load."""
+    for fn in fns.values():
+        fn()
+    times = {name: [] for name in fns}
+    for _ in range(repeat):
+        for name, fn in fns.items():
+            t = time.perf_counter()
+            fn()
+            times[name].append(time.perf_counter() - t)
+    return {name: 1000 * statistics.median(t) for name, t in times.items()}
+
+
 def photos(data: Path, size: int) -> tuple[list[np.ndarray], list[np.ndarray]]:
     london = data / "london"
     paths = [london / "neutral_front/001_03.jpg", london / "smiling_front/001_08.jpg", london / "neutral_front/003_03.jpg"]
@@ -74,16 +89,10 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
         "global (landmarks)": median_ms(lambda: global_warp.global_landmarks(sn, se, tn, DLIB68), repeat),
         "local (landmarks)": median_ms(lambda: local_warp.local_landmarks(gl, se, DLIB68), repeat),
         "elastic (1 lambda)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, 1.0), repeat),
+        "elastic (13 lambdas at once, as clone does)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, lambdas), repeat),
         "lambda search (13 candidates + DB)": median_ms(
             lambda: metric.choose_lambda(
-                tn_img,
-                mesh,
-                [elastic.elastic_landmarks(gl, lo, nb, lam) for lam in lambdas],
-                lambdas,
-                se_img,
-                se,
-                default_eigenfaces(),
-                DLIB68,
+                tn_img, mesh, list(elastic.elastic_landmarks(gl, lo, nb, lambdas)), lambdas, se_img, se, default_eigenfaces(), DLIB68
             ),
             repeat,
         ),
@@ -113,16 +122,22 @@ def warp_peers(images, lms, repeat: int) -> dict[str, float]:
     mesh = warp.build_mesh(tn, tn_img.shape, DLIB68)
     moved = tn + 4 * np.stack([np.sin(tn[:, 1] / 60), np.cos(tn[:, 0] / 50)], 1)
     dst = mesh.control_points(moved)
-    ours = median_ms(lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles), repeat)
+    mx, my = warp.inverse_maps(mesh.points, dst, mesh.triangles, tn_img.shape[:2])
+    # ours and the floor in turn, 3x as many runs: they are fast and their ratio is the target
+    rows = interleaved_ms(
+        {
+            "exprclone warp": lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles),
+            "bare cv2.remap, maps precomputed": lambda: cv2.remap(tn_img, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE),
+        },
+        3 * repeat,
+    )
 
     def skimage_warp():
         t = PiecewiseAffineTransform.from_estimate(dst, mesh.points)  # output -> input, as skimage's warp expects
         return sk_warp(tn_img, t, preserve_range=True).astype(np.uint8)
 
-    sk = median_ms(skimage_warp, max(1, repeat // 3))
-    mx, my = warp.inverse_maps(mesh.points, dst, mesh.triangles, tn_img.shape[:2])
-    floor = median_ms(lambda: cv2.remap(tn_img, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE), repeat)
-    return {"exprclone warp": ours, "scikit-image PiecewiseAffineTransform + warp": sk, "bare cv2.remap, maps precomputed": floor}
+    rows["scikit-image PiecewiseAffineTransform + warp"] = median_ms(skimage_warp, max(1, repeat // 3))
+    return rows
 
 
 def peak_memory_mb(data: Path) -> float:

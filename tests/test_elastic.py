@@ -14,8 +14,9 @@ def springs(pair):
 
 
 def force_norm(points, gl, lo, neighbours, lambda_k):
-    index, mask = elastic.pad_neighbours(neighbours)
-    return np.linalg.norm(elastic.net_force(points[:, None], gl, lo, gl[index], mask, lambda_k)[:, 0], axis=-1)
+    index, count = elastic.pad_neighbours(neighbours)
+    springs = elastic.spring_force(points[:, None], gl, gl[index], count)
+    return np.linalg.norm(elastic.net_force(points[:, None], lo, springs, lambda_k)[:, 0], axis=-1)
 
 
 def test_lambda_zero_gives_global_and_k_n_zero_gives_local(springs):
@@ -66,3 +67,16 @@ def test_many_lambdas_at_once_equal_one_at_a_time(springs):
     assert together.shape == (4, 68, 2)
     for lam, p in zip(lambdas, together):
         assert np.allclose(p, elastic.elastic_landmarks(gl, lo, nb, lam))
+
+
+def test_spring_force_sums_each_points_own_neighbours(springs):
+    """Points are visited in order of neighbour count inside; the result keeps the caller's order."""
+    gl, _, nb = springs
+    index, count = elastic.pad_neighbours(nb)
+    p = gl[:, None] + np.array([[[3.0, -2.0]]])
+    force = elastic.spring_force(p, gl, gl[index], count)[:, 0]
+    for i in (0, 30, 48, 67):
+        d = gl[nb[i]] - p[i, 0]
+        rest = np.linalg.norm(gl[nb[i]] - gl[i], axis=1)
+        length = np.linalg.norm(d, axis=1)
+        assert np.allclose(force[i], ((length - rest) / length) @ d)

@@ -45,3 +45,19 @@ def test_strength_grows_with_muscle_motion(pair):
     names = [a.name for a in DLIB68.muscle_areas]
     # a smile works the mouth corners more than the forehead
     assert h[names.index("mouth_corner_left")] > h[names.index("forehead_left")]
+
+
+def test_mask_drawn_in_strips_is_the_maximum_of_whole_bumps():
+    """Strip by strip, cut at 4 sigma: the same as Eq. (10) evaluated everywhere."""
+    shape = (333, 250)  # not a whole number of strips
+    centres = np.array([[60.0, 70.0], [180.0, 200.0], [120.0, 150.0], [240.0, 10.0]])
+    radii = np.array([25.0, 40.0, 30.0, 15.0])
+    h = np.array([0.5, 0.3, 0.0, 0.8])
+    ys, xs = np.mgrid[: shape[0], : shape[1]]
+    sigma = radii / np.sqrt(np.log(2.0))
+    bumps = h[:, None, None] * np.exp(
+        -((xs - centres[:, 0, None, None]) ** 2 + (ys - centres[:, 1, None, None]) ** 2) / (2 * sigma[:, None, None] ** 2)
+    )
+    m = muscle.importance_mask(shape, centres, radii, h)
+    assert m.shape == shape and m.dtype == np.float32
+    assert np.abs(m - (1 + bumps.max(axis=0))).max() < h.max() * np.exp(-8)  # what lies past 4 sigma

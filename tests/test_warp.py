@@ -1,5 +1,7 @@
+import cv2
 import numpy as np
 import pytest
+from scipy.spatial import Delaunay
 
 from exprclone import warp
 from exprclone.layout import DLIB68
@@ -90,3 +92,70 @@ def test_an_opening_mouth_is_stretched_evenly(photo, face_id):
         assert rows.max() <= np.interp(x, lm[[67, 66, 65], 0], lm[[67, 66, 65], 1]) + 1
     # each column samples (nearly) one point of the lip line: a vertical smear, no zig-zag
     assert max(spreads) < 3.0, max(spreads)
+
+
+def test_maps_are_each_triangles_affine_map(pair):
+    """The strip-wise float32 maps equal ``[x y 1] @ coeffs[label]`` evaluated in float64."""
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    moved = lm + 6 * np.stack([np.sin(lm[:, 1] / 50), np.cos(lm[:, 0] / 40)], 1)
+    dst, _ = warp.unfold(mesh.points, mesh.control_points(moved), mesh.triangles, mesh.n_moving)
+    shape = (target.shape[0] - 7, target.shape[1] - 3)  # not a whole number of strips
+    pa = warp.PiecewiseAffine.build(mesh.points, dst, mesh.triangles, shape)
+    ys, xs = np.mgrid[: shape[0], : shape[1]]
+    c = pa.coeffs[pa.labels]
+    exact = [xs * c[..., 0, k] + ys * c[..., 1, k] + c[..., 2, k] for k in (0, 1)]
+    for got, want in zip(warp.inverse_maps(mesh.points, dst, mesh.triangles, shape), exact):
+        assert got.shape == shape and got.dtype == np.float32
+        # float32 rounding: about 1e-4 px, 1e-2 on the slivers between the lips whose
+        # coefficients are large
+        err = np.abs(got - want)
+        assert np.quantile(err, 0.999) < 1e-3 and err.max() < 2e-2
+
+
+@pytest.mark.parametrize("channels", [(), (3,)])
+def test_strip_wise_warp_equals_one_remap_with_the_whole_maps(pair, channels):
+    (_, _, target), (_, _, lm) = pair
+    image = target if channels else target[..., 1].copy()
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    dst = mesh.control_points(lm + 5 * np.stack([np.cos(lm[:, 1] / 60), np.sin(lm[:, 0] / 50)], 1))
+    out = warp.warp(image, mesh.points, dst, mesh.triangles)
+    map_x, map_y = warp.inverse_maps(mesh.points, dst, mesh.triangles, image.shape[:2])
+    assert np.array_equal(out, cv2.remap(image, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE))
+
+
+def test_meshes_of_more_than_255_triangles(pair):
+    """Past 255 triangles the labels are int32 and gathered by numpy instead of cv2.LUT."""
+    (_, _, target), _ = pair
+    rng = np.random.default_rng(0)
+    corners = np.array([[-0.5, -0.5], [299.5, -0.5], [-0.5, 199.5], [299.5, 199.5]])
+    pts = np.concatenate([corners, rng.uniform(5, 195, (300, 2)) * (1.5, 1)])
+    tri = Delaunay(pts).simplices
+    assert len(tri) > 255
+    image = target[500:700, 500:800]
+    assert warp.PiecewiseAffine.build(pts, pts, tri, image.shape[:2]).labels.dtype == np.int32
+    assert np.abs(warp.warp(image, pts, pts, tri).astype(int) - image).max() <= 1
+
+
+def test_a_window_of_the_output_is_that_window_of_the_whole_warp(pair):
+    """Triangles outside a small output are dropped; that changes none of its pixels."""
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    dst = mesh.control_points(lm + 6 * np.stack([np.cos(lm[:, 1] / 70), np.sin(lm[:, 0] / 45)], 1))
+    whole = warp.warp(target, mesh.points, dst, mesh.triangles)
+    assert np.array_equal(warp.warp(target, mesh.points, dst, mesh.triangles, (300, 200)), whole[:300, :200])
+    x0, y0 = int(lm[:, 0].min()), int(lm[:, 1].min())
+    window = warp.warp(target, mesh.points, dst - (x0, y0), mesh.triangles, (250, 400))
+    assert np.abs(window.astype(int) - whole[y0 : y0 + 250, x0 : x0 + 400]).max() <= 1
+
+
+def test_a_closed_slit_maps_into_the_source(pair):
+    """A triangle of no area (collinear lips) still gets a finite map."""
+    (_, _, target), _ = pair
+    src = np.array([[-0.5, -0.5], [99.5, -0.5], [-0.5, 79.5], [99.5, 79.5], [30, 40], [50, 40], [70, 40]])
+    dst = src.copy()
+    tri = np.array([[0, 1, 4], [1, 5, 4], [1, 6, 5], [1, 3, 6], [3, 2, 6], [2, 5, 6], [2, 4, 5], [0, 4, 2], [4, 5, 6]])
+    pa = warp.PiecewiseAffine.build(src, dst, tri, (80, 100))
+    assert np.isfinite(pa.coeffs).all()
+    image = target[600:680, 600:700]
+    assert np.abs(warp.warp(image, src, dst, tri).astype(int) - image).max() <= 1

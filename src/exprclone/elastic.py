@@ -18,51 +18,88 @@ PASSES = 4
 
 
 def pad_neighbours(neighbours: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Pad per-point neighbour lists into an index array and a validity mask, ``(N, K)``."""
-    k = max(len(n) for n in neighbours)
-    index = np.zeros((len(neighbours), k), np.int64)
-    mask = np.zeros((len(neighbours), k), bool)
+    """Pad per-point neighbour lists into an index array ``(N, K)`` and the list lengths ``(N,)``.
+
+    Row ``i`` holds point ``i``'s neighbours in its first ``count[i]`` slots, zeros after.
+    """
+    count = np.array([len(n) for n in neighbours], np.int64)
+    index = np.zeros((len(neighbours), max(count, default=0)), np.int64)
     for i, n in enumerate(neighbours):
         index[i, : len(n)] = n
-        mask[i, : len(n)] = True
-    return index, mask
+    return index, count
 
 
-def net_force(
-    p: np.ndarray, a: np.ndarray, a_local: np.ndarray, b: np.ndarray, mask: np.ndarray, lambda_k: float | np.ndarray
-) -> np.ndarray:
-    """Net spring force on candidate positions, in units of ``k_N`` (Eqs. 3, 4, 6).
+def spring_force(p: np.ndarray, a: np.ndarray, b: np.ndarray, count: np.ndarray) -> np.ndarray:
+    """Force of the neighbour springs on candidate positions, in units of ``k_N`` (Eqs. 3-4).
 
-    ``F_Bi(P) = k_N * dl_Bi(P) * e_Bi(P)`` with ``dl_Bi(P) = |P - B_i| - |A - B_i|`` (zero
-    at ``P = A``) and ``e_Bi`` the unit vector from ``P`` to ``B_i``;
-    ``F_A'(P) = k_A' * |P - A'| * e_A'(P) = k_A' (A' - P)``. Dividing by ``k_N`` leaves
-    ``lambda_k = k_A' / k_N`` (Eq. 6) as the one parameter.
+    ``sum_i F_Bi(P)`` with ``F_Bi(P) = k_N * dl_Bi(P) * e_Bi(P)``, ``dl_Bi(P) = |P - B_i| -
+    |A - B_i|`` (zero at ``P = A``) and ``e_Bi`` the unit vector from ``P`` to ``B_i``.
 
     Parameters
     ----------
     p : ndarray of shape (N, M, 2)
         M candidate positions for each of N points.
-    a, a_local : ndarray of shape (N, 2)
-        Global positions ``A`` and local positions ``A'``.
+    a : ndarray of shape (N, 2)
+        Global positions ``A``.
     b : ndarray of shape (N, K, 2)
-        Neighbour positions ``B_i`` (global).
-    mask : ndarray of shape (N, K)
-        Which neighbour slots are real.
+        Neighbour positions ``B_i`` (global); point ``i`` has ``count[i]`` of them.
+    count : ndarray of shape (N,)
+
+    Returns
+    -------
+    ndarray of shape (N, M, 2)
+    """
+    # Points are visited by neighbour slot, most neighbours first, so the points that
+    # have a k-th neighbour are a leading block: no work is spent on padding.
+    order = np.argsort(-count, kind="stable")
+    a, b, count = a[order], b[order], count[order]
+    px, py = p[order, :, 0], p[order, :, 1]
+    fx, fy = np.zeros(px.shape), np.zeros(px.shape)
+    for k in range(b.shape[1]):
+        n = int(np.count_nonzero(count > k))
+        bx, by = b[:n, k, 0, None], b[:n, k, 1, None]
+        rest = np.sqrt((a[:n, 0, None] - bx) ** 2 + (a[:n, 1, None] - by) ** 2)
+        dx, dy = bx - px[:n], by - py[:n]  # P -> B_i
+        length = np.sqrt(dx * dx + dy * dy)
+        coef = (length - rest) / np.maximum(length, 1e-12)
+        fx[:n] += coef * dx
+        fy[:n] += coef * dy
+    out = np.empty(p.shape)
+    out[order, :, 0], out[order, :, 1] = fx, fy
+    return out
+
+
+def net_force(p: np.ndarray, a_local: np.ndarray, springs: np.ndarray, lambda_k: float | np.ndarray) -> np.ndarray:
+    """Net force on candidate positions, in units of ``k_N`` (Eq. 6).
+
+    The neighbour springs ``springs`` (:func:`spring_force`) plus the spring to ``A'``,
+    ``F_A'(P) = k_A' * |P - A'| * e_A'(P) = k_A' (A' - P)``. Dividing by ``k_N`` leaves
+    ``lambda_k = k_A' / k_N`` as the one parameter.
+
+    Parameters
+    ----------
+    p : ndarray of shape (N, M, 2)
+        M candidate positions for each of N points.
+    a_local : ndarray of shape (N, 2)
+        Local positions ``A'``.
+    springs : ndarray of shape (N, M, 2)
+        :func:`spring_force` at ``p``.
     lambda_k : float or ndarray of shape (N,)
 
     Returns
     -------
     ndarray of shape (N, M, 2)
     """
-    rest = np.sqrt(((a[:, None, :] - b) ** 2).sum(-1))[:, None, :]  # (N, 1, K)
-    dx = b[None, :, :, 0].transpose(1, 0, 2) - p[:, :, 0, None]  # (N, M, K): P -> B_i
-    dy = b[None, :, :, 1].transpose(1, 0, 2) - p[:, :, 1, None]
-    length = np.sqrt(dx * dx + dy * dy)
-    coef = (length - rest) * mask[:, None, :] / np.maximum(length, 1e-12)
     lam = np.asarray(lambda_k, float).reshape(-1, 1)
-    fx = (coef * dx).sum(-1) + lam * (a_local[:, None, 0] - p[:, :, 0])
-    fy = (coef * dy).sum(-1) + lam * (a_local[:, None, 1] - p[:, :, 1])
-    return np.stack([fx, fy], -1)
+    out = np.empty(p.shape)
+    for d in (0, 1):  # one coordinate at a time: numpy is slow on a last axis of length 2
+        out[..., d] = springs[..., d] + lam * (a_local[:, d, None] - p[..., d])
+    return out
+
+
+def vector_length(v: np.ndarray) -> np.ndarray:
+    """Euclidean length of ``(..., 2)`` vectors (as ``np.linalg.norm(axis=-1)``, several times faster)."""
+    return np.sqrt(v[..., 0] ** 2 + v[..., 1] ** 2)
 
 
 def elastic_landmarks(
@@ -72,8 +109,10 @@ def elastic_landmarks(
 
     All points are solved at once (vectorised), and so are several ``lambda_k``; each
     point sees its neighbours at their global positions, as in Figs. 6-7.
-    ``lambda_k = 0`` gives the global positions, ``lambda_k = inf`` (``k_N = 0``) the
-    local ones.
+    ``lambda_k = 0`` gives the global positions (the neighbour springs are at rest at
+    ``A``), ``lambda_k = inf`` (``k_N = 0``) the local ones; neither is searched. The
+    first pass searches the same grid for every ``lambda_k``, so its spring forces are
+    computed once.
 
     Parameters
     ----------
@@ -89,32 +128,50 @@ def elastic_landmarks(
     ndarray of shape (N, 2), or (L, N, 2) for an array of ``lambda_k``
     """
     lambdas = np.atleast_1d(np.asarray(lambda_k, float))
-    n_lambda, n = len(lambdas), len(global_pts)
-    index, mask = pad_neighbours(neighbours)
-    # every (lambda_k, point) is one problem; where A = A' the answer is A
-    a, a_local = np.tile(global_pts, (n_lambda, 1)), np.tile(local_pts, (n_lambda, 1))
-    solve = np.flatnonzero(np.any(a != a_local, axis=1))
-    a_s, a_local_s = a[solve], a_local[solve]
-    b, mask = np.tile(global_pts[index], (n_lambda, 1, 1))[solve], np.tile(mask, (n_lambda, 1))[solve]
-    lam = np.repeat(np.where(np.isinf(lambdas), 0.0, lambdas), n)[solve]
-    lo, hi = np.minimum(a_s, a_local_s), np.maximum(a_s, a_local_s)
-    centre, half = (lo + hi) / 2, (hi - lo) / 2
+    out = np.repeat(global_pts[None].astype(float), len(lambdas), axis=0)
+    out[np.isinf(lambdas)] = local_pts  # k_N = 0: only the spring to A' is left
+    searched = np.flatnonzero(np.isfinite(lambdas) & (lambdas > 0))
+    points = np.flatnonzero(np.any(global_pts != local_pts, axis=1))  # where A = A' the answer is A
+    if len(searched) and len(points):
+        out[searched[:, None], points] = grid_search(global_pts, local_pts, neighbours, points, lambdas[searched])
+    return out if np.ndim(lambda_k) else out[0]
+
+
+def grid_search(
+    global_pts: np.ndarray, local_pts: np.ndarray, neighbours: list[np.ndarray], points: np.ndarray, lambdas: np.ndarray
+) -> np.ndarray:
+    """The grid search of Eq. (5) for the landmarks ``points`` and each of ``lambdas``, ``(L, P, 2)``."""
+    index, count = pad_neighbours([neighbours[i] for i in points])
+    a, a_local, b = global_pts[points], local_pts[points], global_pts[index]
+    lo, hi = np.minimum(a, a_local), np.maximum(a, a_local)
     steps = np.linspace(-1.0, 1.0, GRID)
     offsets = np.stack(np.meshgrid(steps, steps, indexing="ij"), -1).reshape(-1, 2)  # (M, 2)
+
+    def grid(centre: np.ndarray, half: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        out = np.empty((len(centre), len(offsets), 2))
+        for d in (0, 1):
+            np.clip(centre[:, d, None] + offsets[:, d] * half[:, d, None], lo[:, d, None], hi[:, d, None], out=out[..., d])
+        return out
+
+    first = grid((lo + hi) / 2, (hi - lo) / 2, lo, hi)
+    springs = spring_force(first, a, b, count)
+    # From here every (lambda_k, point) is one problem.
+    n_lambda, n = len(lambdas), len(points)
+    a, a_local, b, count, lo, hi, first, springs = (
+        np.broadcast_to(x, (n_lambda, *x.shape)).reshape(-1, *x.shape[1:]) for x in (a, a_local, b, count, lo, hi, first, springs)
+    )
+    lam = np.repeat(lambdas, n)
     # The window's corners A and A' are candidates of the first pass.
-    best = a_s.copy()
-    best_norm = np.linalg.norm(net_force(best[:, None], a_s, a_local_s, b, mask, lam)[:, 0], axis=-1)
-    rows = np.arange(len(a_s))
-    for _ in range(PASSES):
-        cand = np.clip(centre[:, None, :] + offsets[None] * half[:, None, :], lo[:, None], hi[:, None])
-        norms = np.linalg.norm(net_force(cand, a_s, a_local_s, b, mask, lam), axis=-1)
-        k = norms.argmin(axis=1)
-        better = norms[rows, k] < best_norm
-        best[better] = cand[rows, k][better]
-        best_norm[better] = norms[rows, k][better]
-        centre, half = best, half * 2 / (GRID - 1)
-    a[solve] = best
-    best = a
-    out = best.reshape(n_lambda, n, 2)
-    out[np.isinf(lambdas)] = local_pts  # k_N = 0: only the spring to A' is left
-    return out if np.ndim(lambda_k) else out[0]
+    best = a.copy()
+    best_norm = vector_length(net_force(best[:, None], a_local, spring_force(best[:, None], a, b, count), lam))[:, 0]
+    rows = np.arange(len(a))
+    half = (hi - lo) / 2
+    for k in range(PASSES):
+        cand = first if k == 0 else grid(best, half, lo, hi)
+        norms = vector_length(net_force(cand, a_local, springs if k == 0 else spring_force(cand, a, b, count), lam))
+        j = norms.argmin(axis=1)
+        better = norms[rows, j] < best_norm
+        best[better] = cand[rows, j][better]
+        best_norm[better] = norms[rows, j][better]
+        half = half * 2 / (GRID - 1)
+    return best.reshape(n_lambda, n, 2)

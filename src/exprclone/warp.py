@@ -14,13 +14,17 @@ triangulation of the target's neutral landmarks plus two kinds of extra control 
   opens is stretched evenly instead of in the zig-zag of arbitrary slivers.
 
 The warp is vectorised: each output pixel gets the index of its triangle from a label
-image, then the inverse affine map of that triangle; one ``cv2.remap`` samples the
-source. Triangles that would fold over are relaxed first (:func:`unfold`).
+image, then the inverse affine map of that triangle (:class:`PiecewiseAffine`);
+``cv2.remap`` samples the source. Maps and sampling go strip by strip of rows, so the
+maps never exist at full size: they stay in the CPU cache, and no large temporary
+arrays are allocated (each costs page faults on first touch). Triangles that would
+fold over are relaxed first (:func:`unfold`).
 """
 
 from __future__ import annotations
 
 import functools
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import cv2
@@ -209,16 +213,103 @@ def unfold(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, n_moving: in
     return dst, int(moved.sum())
 
 
-@functools.lru_cache(maxsize=4)
-def pixel_grid(h: int, w: int) -> tuple[np.ndarray, np.ndarray]:
-    """Float32 x and y coordinates of every pixel, ``(H, W)`` each (cached, read-only)."""
-    xs, ys = np.meshgrid(np.arange(w, dtype=np.float32), np.arange(h, dtype=np.float32))
+#: output rows mapped and sampled at a time: the maps of a strip stay in the CPU cache.
+STRIP = 64
+
+
+@functools.lru_cache(maxsize=8)
+def strip_grid(rows: int, w: int) -> tuple[np.ndarray, np.ndarray]:
+    """Float32 x and y coordinates of a strip's pixels, y counted from the strip's top (cached, read-only)."""
+    xs, ys = np.meshgrid(np.arange(w, dtype=np.float32), np.arange(rows, dtype=np.float32))
     xs.flags.writeable = ys.flags.writeable = False
     return xs, ys
 
 
+@dataclass(frozen=True)
+class PiecewiseAffine:
+    """The inverse map of a triangle mesh, ready to be evaluated strip by strip.
+
+    Attributes
+    ----------
+    labels : ndarray of shape (H, W)
+        For each output pixel, its triangle's label (1 + its index among the triangles
+        that reach into the output); 0 outside every triangle.
+        uint8 with fewer than 256 labels (looked up by ``cv2.LUT``), int32 otherwise.
+    coeffs : ndarray of shape (L, 3, 2)
+        Per label, the affine map output -> source: ``[x y 1] @ coeffs[label] = [u v]``.
+        Label 0 maps far outside the source. ``L = 256`` for uint8 labels, ``T + 1`` otherwise.
+    """
+
+    labels: np.ndarray
+    coeffs: np.ndarray
+
+    @classmethod
+    def build(cls, src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_shape: tuple[int, int]) -> "PiecewiseAffine":
+        """Label the output pixels by triangle and solve each triangle's affine map.
+
+        Parameters
+        ----------
+        src, dst : ndarray of shape (N, 2)
+            Control points in the source image and in the output image.
+        triangles : ndarray of shape (T, 3)
+        out_shape : (H, W)
+        """
+        h, w = out_shape
+        # triangles wholly outside the output label no pixel (fillConvexPoly clips them)
+        lo, hi = dst[triangles].min(axis=1), dst[triangles].max(axis=1)
+        triangles = triangles[(hi[:, 0] >= -1) & (lo[:, 0] <= w) & (hi[:, 1] >= -1) & (lo[:, 1] <= h)]
+        d = np.concatenate([dst[triangles], np.ones((len(triangles), 3, 1))], axis=2)
+        # Affine dst -> src per triangle: d @ coeffs = src. Slivers of (almost) no area,
+        # such as the slit between closed lips, get the least-squares map of pinv.
+        solvable = np.abs(signed_areas(dst, triangles)) > 1e-6
+        coeffs = np.empty((len(triangles), 3, 2))
+        coeffs[solvable] = np.linalg.solve(d[solvable], src[triangles[solvable]])
+        if not solvable.all():
+            coeffs[~solvable] = np.linalg.pinv(d[~solvable]) @ src[triangles[~solvable]]
+        coeffs = np.concatenate([np.full((1, 3, 2), -1e6), coeffs])
+        labels = np.zeros(out_shape, np.uint8 if len(coeffs) <= 256 else np.int32)
+        if labels.dtype == np.uint8:
+            coeffs = np.resize(coeffs, (256, 3, 2))  # a full table for cv2.LUT
+        shift = 4
+        fixed = np.round(dst[triangles] * (1 << shift)).astype(np.int32)
+        for label, tri in enumerate(fixed, 1):
+            cv2.fillConvexPoly(labels, tri, label, cv2.LINE_8, shift)
+        return cls(labels, coeffs)
+
+    def strip_maps(self) -> Iterator[tuple[slice, np.ndarray, np.ndarray]]:
+        """``(rows, map_x, map_y)`` for ``cv2.remap``, strip by strip of :data:`STRIP` output rows.
+
+        Each map is ``a_x x + a_y (y - y0) + (a_0 + a_y y0)`` with the three coefficients
+        looked up per pixel by its label (``y0`` the strip's first row, folded into the
+        table so that the strip's coordinate grid is the same for every strip). The
+        maps are float32 and are overwritten by the next strip's: one set of buffers
+        serves every strip, since fresh arrays cost a page fault per 4 kB on first touch.
+        """
+        h, w = self.labels.shape
+        map_x, map_y, scratch = (np.empty((min(STRIP, h), w), np.float32) for _ in range(3))
+
+        def gather(labels: np.ndarray, table: np.ndarray, out: np.ndarray) -> np.ndarray:
+            # cv2.LUT on 8-bit labels is several times faster than numpy's gather
+            table = table.astype(np.float32)
+            return cv2.LUT(labels, table, dst=out) if labels.dtype == np.uint8 else np.take(table, labels, out=out)
+
+        for y0 in range(0, h, STRIP):
+            rows = slice(y0, min(y0 + STRIP, h))
+            labels = self.labels[rows]
+            n = len(labels)
+            xs, ys = strip_grid(n, w)
+            for c, m in ((0, map_x[:n]), (1, map_y[:n])):
+                ax, ay, a0 = self.coeffs[:, :, c].T
+                gather(labels, a0 + ay * y0, m)
+                cv2.accumulateProduct(gather(labels, ax, scratch[:n]), xs, m)
+                cv2.accumulateProduct(gather(labels, ay, scratch[:n]), ys, m)
+            yield rows, map_x[:n], map_y[:n]
+
+
 def inverse_maps(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
     """Per-pixel maps ``(map_x, map_y)`` for ``cv2.remap``: output pixel -> source position.
+
+    :func:`warp` evaluates the same maps strip by strip without keeping them whole.
 
     Parameters
     ----------
@@ -232,31 +323,11 @@ def inverse_maps(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_sh
     map_x, map_y : ndarray of shape (H, W), float32
         Pixels outside every triangle map outside the source (border handling of remap).
     """
-    h, w = out_shape
-    # Affine dst -> src per triangle: [x y 1] @ coeffs = [u v].
-    d = np.concatenate([dst[triangles], np.ones((len(triangles), 3, 1))], axis=2)
-    coeffs = np.linalg.pinv(d) @ src[triangles]  # (T, 3, 2)
-    coeffs = np.concatenate([np.full((1, 3, 2), -1e6), coeffs]).astype(np.float32)  # label 0: outside
-    # With fewer than 256 labels the per-pixel look-up is cv2.LUT on an 8-bit label
-    # image, several times faster than numpy's gather.
-    small = len(coeffs) <= 256
-    labels = np.zeros((h, w), np.uint8 if small else np.int32)
-    shift = 4
-    fixed = np.round(dst[triangles] * (1 << shift)).astype(np.int32)
-    for k, tri in enumerate(fixed):
-        cv2.fillConvexPoly(labels, tri, k + 1, lineType=cv2.LINE_8, shift=shift)
-
-    def gather(table: np.ndarray) -> np.ndarray:
-        if small:
-            return cv2.LUT(labels, np.resize(table, 256).astype(np.float32))
-        return np.take(table, labels)
-
-    xs, ys = pixel_grid(h, w)
-    maps = []
-    for c in (0, 1):
-        ax, ay, a0 = (gather(coeffs[:, r, c]) for r in range(3))
-        maps.append(cv2.add(cv2.add(cv2.multiply(ax, xs), cv2.multiply(ay, ys)), a0))
-    return maps[0], maps[1]
+    pa = PiecewiseAffine.build(np.asarray(src, float), np.asarray(dst, float), triangles, out_shape)
+    map_x, map_y = np.empty(out_shape, np.float32), np.empty(out_shape, np.float32)
+    for rows, strip_x, strip_y in pa.strip_maps():
+        map_x[rows], map_y[rows] = strip_x, strip_y
+    return map_x, map_y
 
 
 def warp(
@@ -286,6 +357,10 @@ def warp(
     >>> bool((warp(img, pts, pts, tri) == img).all())
     True
     """
-    out_shape = image.shape[:2] if out_shape is None else out_shape
-    map_x, map_y = inverse_maps(np.asarray(src, float), np.asarray(dst, float), triangles, out_shape)
-    return cv2.remap(image, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    out_shape = tuple(image.shape[:2] if out_shape is None else out_shape)
+    pa = PiecewiseAffine.build(np.asarray(src, float), np.asarray(dst, float), triangles, out_shape)
+    out = np.empty(out_shape + image.shape[2:], image.dtype)
+
+    for rows, map_x, map_y in pa.strip_maps():
+        cv2.remap(image, map_x, map_y, cv2.INTER_LINEAR, dst=out[rows], borderMode=cv2.BORDER_REPLICATE)
+    return out
