@@ -63,9 +63,8 @@ def main() -> None:
         ratios.append(smoothed / rough)
         correlations.append(np.corrcoef(driver_opening, result_opening)[0, 1])
         d = out[True][0]
-        print(
-            f"{clip.stem} | {smoothed:.4f} | {rough:.4f} | {ratios[-1]:.2f} | {correlations[-1]:.3f} | {d.track.missing} | {d.lambda_k:g} | {d.neutral_index}"
-        )
+        cells = [clip.stem, f"{smoothed:.4f}", f"{rough:.4f}", f"{ratios[-1]:.2f}", f"{correlations[-1]:.3f}"]
+        print(" | ".join(cells + [str(d.track.missing), f"{d.lambda_k:g}", str(d.neutral_index)]))
     print(f"\nmedian jitter ratio {np.median(ratios):.2f}; correlation median {np.median(correlations):.3f}, min {min(correlations):.3f}")
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 
 from . import elastic, eri, geometry, global_warp, lips, local_warp, metric, muscle, warp
@@ -122,7 +123,9 @@ def ratio_image(
     iod = geometry.interocular(final, layout)
     x0, y0, x1, y1 = padded_box(dst[: mesh.n_moving], iod, shape)
     local = dst - (x0, y0)
-    neutral, expression = (warp.warp(img, c, local, mesh.triangles, (y1 - y0, x1 - x0)) for img, c in zip(sources, source_ctrl))
+    # the ratio needs the luma only: one channel to warp instead of three
+    lumas = (cv2.cvtColor(img, cv2.COLOR_RGB2GRAY) for img in sources)
+    neutral, expression = (warp.warp(img, c, local, mesh.triangles, (y1 - y0, x1 - x0)) for img, c in zip(lumas, source_ctrl))
     mask = eri.ratio_mask((y1 - y0, x1 - x0), local[: mesh.n_landmarks], local[mesh.forehead], layout)
     out = np.ones(shape[:2], np.float32)
     out[y0:y1, x0:x1] = eri.expression_ratio(neutral, expression, mask, iod)
