@@ -113,3 +113,22 @@ def test_randomly_thrown_inner_lips_always_end_inside(pair):
         fixed = lips.uncross(wild, DLIB68)
         assert farthest_outside(fixed) < 1e-3, k
         assert np.array_equal(np.delete(fixed, INNER, axis=0), np.delete(wild, INNER, axis=0))
+
+
+def test_the_quick_inside_test_never_says_inside_wrongly(pair):
+    """clearly_inside is sufficient: whenever it says inside, the exact test agrees; on real lips it decides."""
+    _, landmarks = pair
+    rng = np.random.default_rng(1)
+    inner, outer = list(DLIB68.mouth_inner), list(DLIB68.mouth_outer)
+    said_inside = 0
+    for lm in landmarks:
+        ring, polygon = lm[inner], lm[outer]
+        assert lips.clearly_inside(ring, polygon)  # real fitted lips: no exact check needed
+        width = mouth_width(lm, DLIB68)
+        for _ in range(200):
+            thrown = ring + rng.normal(0, 0.05 * width, ring.shape)
+            exact = all(lips.segment_inside(thrown[k], thrown[(k + 1) % len(ring)], polygon) for k in range(len(ring)))
+            if lips.clearly_inside(thrown, polygon):
+                said_inside += 1
+                assert exact
+    assert 50 < said_inside < 550  # the random rings test both answers

@@ -88,7 +88,7 @@ def inside_outer_lips(landmarks: np.ndarray, layout: Layout) -> np.ndarray:
     outer = out[list(layout.mouth_outer)]
     ring = list(layout.mouth_inner)
     n = len(ring)
-    if all(segment_inside(out[ring[k]], out[ring[(k + 1) % n]], outer) for k in range(n)):
+    if clearly_inside(out[ring], outer) or all(segment_inside(out[ring[k]], out[ring[(k + 1) % n]], outer) for k in range(n)):
         return out
     centre = outer.mean(0)
     goal = out[ring].copy()
@@ -133,6 +133,30 @@ def inside(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
     spans = (c[:, 1] > p[..., 1]) != (d[:, 1] > p[..., 1])
     x = c[:, 0] + (p[..., 1] - c[:, 1]) * e[:, 0] / np.where(e[:, 1] == 0, 1.0, e[:, 1])
     return on_edge | ((spans & (p[..., 0] < x)).sum(1) % 2 == 1)
+
+
+def clearly_inside(ring: np.ndarray, polygon: np.ndarray) -> bool:
+    """A quick test, sufficient but not necessary, that a closed ring lies inside a polygon.
+
+    True when every vertex of the ring is inside and no edge of the ring meets or touches
+    an edge of the polygon (a path that starts inside and never meets the boundary stays
+    inside); anything touching is left to the exact :func:`segment_inside`.
+
+    Parameters
+    ----------
+    ring, polygon : ndarray of shape (K, 2) and (M, 2)
+        Vertices in order.
+
+    Returns
+    -------
+    bool
+    """
+    if not inside(ring, polygon).all():
+        return False
+    a0, a1 = ring[:, None], np.roll(ring, -1, axis=0)[:, None]
+    b0, b1 = polygon[None], np.roll(polygon, -1, axis=0)[None]
+    meet = (_cross(a1 - a0, b0 - a0) * _cross(a1 - a0, b1 - a0) <= 0) & (_cross(b1 - b0, a0 - b0) * _cross(b1 - b0, a1 - b0) <= 0)
+    return not meet.any()
 
 
 def segment_inside(a: np.ndarray, b: np.ndarray, polygon: np.ndarray) -> bool:
