@@ -36,7 +36,7 @@ def test_opened_mouth_shows_the_source_teeth(open_pair):
     inside = on.mouth_mask > 0.95  # where the paste is whole; the rest is the feathered edge
     assert inside.sum() > 0.5 * polygon.sum() and not (inside & ~polygon).any()
     source_inside = polygon_mask(se.shape, se_lm[INNER], shrink=4)
-    gain = mouth.tone_gain(se, se_lm, tn, tn_lm, DLIB68, pasted=se[source_inside])
+    gain = mouth.tone_gain(se, se_lm, mouth.Reference.measure(tn, tn_lm, DLIB68), DLIB68, pasted=se[source_inside])
     expected = se[source_inside].astype(float).mean(0) * gain  # the source interior, tone-matched
     pasted = np.abs(on.image[inside].astype(float).mean(0) - expected).mean()
     stretched = np.abs(off.image[inside].astype(float).mean(0) - expected).mean()
@@ -63,7 +63,9 @@ def grain_pair(photo):
     source_lm, target_lm = lips.uncross(se_lm, DLIB68), lips.uncross(tn_lm, DLIB68)  # as the pipeline passes them
 
     def fill(degrade):
-        return mouth.fill_interior(degrade(off.image), off.landmarks["final"], se, source_lm, degrade(tn), target_lm, DLIB68)
+        return mouth.fill_interior(
+            degrade(off.image), off.landmarks["final"], se, source_lm, mouth.Reference.measure(degrade(tn), target_lm, DLIB68), DLIB68
+        )
 
     sharp, weight = fill(lambda im: im)
     whole = cv2.erode((weight > 0.99).astype(np.uint8), np.ones((7, 7), np.uint8)).astype(bool)
@@ -141,8 +143,8 @@ def test_a_squinting_source_has_its_eye_whites_read_on_its_neutral_photo(photo):
     # her smile onto her own neutral photo: the right gain is the change of exposure
     # between the two, which the studio wall in the corner shows (the smile is 6% darker)
     wall = sn[10:110, 10:110].reshape(-1, 3).mean(0) / se[10:110, 10:110].reshape(-1, 3).mean(0)
-    squinting = mouth.tone_gain(se, se_lm, sn, sn_lm, DLIB68)
-    read_open = mouth.tone_gain(se, se_lm, sn, sn_lm, DLIB68, source_neutral=(sn, sn_lm))
+    squinting = mouth.tone_gain(se, se_lm, mouth.Reference.measure(sn, sn_lm, DLIB68), DLIB68)
+    read_open = mouth.tone_gain(se, se_lm, mouth.Reference.measure(sn, sn_lm, DLIB68, (sn, sn_lm)), DLIB68)
     assert np.abs(np.log(squinting / wall)).min() > 0.4, squinting  # read on the squint, the teeth glare
     # her face flushes as she smiles, so its median tells the exposure only to about 10%
     assert np.abs(np.log(read_open / wall)).max() < 0.15, (read_open, wall)
@@ -162,13 +164,14 @@ def test_teeth_fade_out_as_the_source_shows_less(open_pair):
     cv2.fillPoly(outer, [np.round(se_lm[list(DLIB68.mouth_outer)]).astype(np.int32)], 1)
     lip_colour = np.median(se[(outer > 0) & (inner == 0)], axis=0)
     left, right = se_lm[INNER, 0].min(), se_lm[INNER, 0].max()
+    reference = mouth.Reference.measure(tn, tn_lm, DLIB68)
     amounts, shown = [], []
     for edge in np.linspace(left, right, 61):
         covered = se.copy()
         covered[(inner > 0) & (np.arange(se.shape[1]) < edge)[None, :]] = lip_colour
         teeth, cavity = mouth.interior(covered, lips.uncross(se_lm, DLIB68), DLIB68)
         shown.append((teeth.sum() + cavity.sum()) / mouth.mouth_width(se_lm, DLIB68) ** 2)
-        _, mask = mouth.fill_interior(on.image, on.landmarks["final"], covered, se_lm, tn, tn_lm, DLIB68)
+        _, mask = mouth.fill_interior(on.image, on.landmarks["final"], covered, se_lm, reference, DLIB68)
         amounts.append(0.0 if mask is None else float(mask.sum()))
     amounts, shown = np.array(amounts), np.array(shown)
     assert shown[0] > mouth.INTERIOR[1] and amounts[-1] == 0  # from all teeth to none

@@ -25,6 +25,8 @@ what lies between them would paste lips.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import cv2
 import numpy as np
 from scipy.spatial import Delaunay
@@ -137,13 +139,57 @@ def sclera_colour(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> n
     return np.median(pixels[luma >= np.percentile(luma, 75)], axis=0)
 
 
+@dataclass(frozen=True)
+class Reference:
+    """What a paste is matched to, measured once for a pair of faces.
+
+    The target photo and the source's neutral photo are the same for every expression
+    cloned between two people (every frame of a driving video), so their eye whites,
+    sharpness and noise are measured once; only the expression's own measures change.
+
+    Attributes
+    ----------
+    white : ndarray of shape (3,)
+        The target photo's eye whites (:func:`sclera_colour`).
+    blur : float
+        Its face's edge blur (:func:`blur_sigma` of :func:`face_box`).
+    noise : ndarray of shape (3,)
+        Its face's noise (:func:`noise_sigma`).
+    source_white, source_face : ndarray of shape (3,) or None
+        The source's neutral photo's eye whites and face median, when it is given.
+    """
+
+    white: np.ndarray
+    blur: float
+    noise: np.ndarray
+    source_white: np.ndarray | None = None
+    source_face: np.ndarray | None = None
+
+    @classmethod
+    def measure(
+        cls,
+        target: np.ndarray,
+        target_landmarks: np.ndarray,
+        layout: Layout,
+        source_neutral: tuple[np.ndarray, np.ndarray] | None = None,
+    ) -> Reference:
+        """Measure the target photo (and the source's neutral photo with its landmarks, if given)."""
+        face = face_box(target, target_landmarks)
+        source = {}
+        if source_neutral is not None:
+            neutral, neutral_landmarks = source_neutral
+            source = dict(
+                source_white=sclera_colour(neutral, neutral_landmarks, layout),
+                source_face=np.median(face_box(neutral, neutral_landmarks).reshape(-1, 3), 0),
+            )
+        return cls(sclera_colour(target, target_landmarks, layout), blur_sigma(face), noise_sigma(face), **source)
+
+
 def tone_gain(
     source: np.ndarray,
     source_landmarks: np.ndarray,
-    target: np.ndarray,
-    target_landmarks: np.ndarray,
+    reference: Reference,
     layout: Layout,
-    source_neutral: tuple[np.ndarray, np.ndarray] | None = None,
     pasted: np.ndarray | None = None,
 ) -> np.ndarray:
     """Per-channel gain that gives the source photo's pixels the target photo's exposure and cast.
@@ -153,18 +199,18 @@ def tone_gain(
     stay below white: teeth the source photo shows unclipped never turn flat white.
     A smiling source often squints, hiding its eye whites behind lashes (on the London
     Set they read 5% darker in the smile than in the neutral photo at the median, 19%
-    at the 5th percentile, 55% for one person), so with ``source_neutral``
-    (its neutral photo and landmarks) they are read there and carried over to the
-    expression photo by the ratio of the two photos' face medians (:func:`face_box`):
-    one person's face, so what differs between the medians is the exposure.
+    at the 5th percentile, 55% for one person), so when the reference holds the
+    source's neutral photo they are read there and carried over to the expression photo
+    by the ratio of the two photos' face medians (:func:`face_box`): one person's face,
+    so what differs between the medians is the exposure.
 
     Parameters
     ----------
-    source, target : ndarray of shape (H, W, 3), uint8
-        The two photos, and ``source_landmarks``, ``target_landmarks`` their landmarks.
+    source : ndarray of shape (H, W, 3), uint8
+        The source's expression photo, and ``source_landmarks`` its landmarks.
+    reference : Reference
+        The target photo (and the source's neutral photo), measured.
     layout : Layout
-    source_neutral : tuple of ndarray of shape (h, w, 3) and (N, 2), optional
-        The source's neutral photo and its landmarks.
     pasted : ndarray of shape (K, 3), optional
         The source pixels the gain is for.
 
@@ -172,15 +218,12 @@ def tone_gain(
     -------
     ndarray of shape (3,)
     """
-    if source_neutral is None:
+    if reference.source_white is None:
         white = sclera_colour(source, source_landmarks, layout)
     else:
-        neutral, neutral_landmarks = source_neutral
-        exposure = np.median(face_box(source, source_landmarks).reshape(-1, 3), 0) / np.maximum(
-            np.median(face_box(neutral, neutral_landmarks).reshape(-1, 3), 0), 1.0
-        )
-        white = sclera_colour(neutral, neutral_landmarks, layout) * exposure
-    gain = np.clip(sclera_colour(target, target_landmarks, layout) / np.maximum(white, 1.0), 0.5, 2.0)
+        exposure = np.median(face_box(source, source_landmarks).reshape(-1, 3), 0) / np.maximum(reference.source_face, 1.0)
+        white = reference.source_white * exposure
+    gain = np.clip(reference.white / np.maximum(white, 1.0), 0.5, 2.0)
     if pasted is None or not len(pasted):
         return gain
     return gain * min(1.0, 255.0 / max(float((gain * np.percentile(pasted, 99, axis=0)).max()), 1.0))
@@ -283,8 +326,7 @@ def match_grain(
     patch: np.ndarray,
     source: np.ndarray,
     source_landmarks: np.ndarray,
-    target: np.ndarray,
-    target_landmarks: np.ndarray,
+    reference: Reference,
     scale: float,
     gain: np.ndarray,
 ) -> np.ndarray:
@@ -302,8 +344,10 @@ def match_grain(
     ----------
     patch : ndarray of shape (h, w, 3), float32
         Source pixels warped into the target photo, tone-matched by ``gain``.
-    source, target : ndarray of shape (H, W, 3), uint8
-        The two photos, and ``source_landmarks``, ``target_landmarks`` their landmarks.
+    source : ndarray of shape (H, W, 3), uint8
+        The source's expression photo, and ``source_landmarks`` its landmarks.
+    reference : Reference
+        The target photo, measured.
     scale : float
         Target pixels per source pixel in the patch.
     gain : ndarray of shape (3,)
@@ -314,12 +358,11 @@ def match_grain(
     ndarray of shape (h, w, 3), float32
     """
     source_face = face_box(source, source_landmarks, scale)
-    target_face = face_box(target, target_landmarks)
-    sigma = np.sqrt(max(blur_sigma(target_face) ** 2 - blur_sigma(source_face) ** 2, 0.0))
+    sigma = np.sqrt(max(reference.blur**2 - blur_sigma(source_face) ** 2, 0.0))
     if sigma > 0:
         patch = cv2.GaussianBlur(patch, (0, 0), sigma)
         source_face = cv2.GaussianBlur(source_face, (0, 0), sigma)
-    missing = np.sqrt(np.maximum(noise_sigma(target_face) ** 2 - (gain * noise_sigma(source_face)) ** 2, 0.0))
+    missing = np.sqrt(np.maximum(reference.noise**2 - (gain * noise_sigma(source_face)) ** 2, 0.0))
     return patch + np.random.default_rng(NOISE_SEED).normal(0.0, 1.0, patch.shape).astype(np.float32) * missing.astype(np.float32)
 
 
@@ -328,11 +371,8 @@ def fill_interior(
     final: np.ndarray,
     source: np.ndarray,
     source_landmarks: np.ndarray,
-    target_reference: np.ndarray,
-    target_landmarks: np.ndarray,
+    reference: Reference,
     layout: Layout,
-    *,
-    source_neutral: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray | None]:
     """Paste the source's mouth interior inside the target's final inner lips.
 
@@ -344,13 +384,10 @@ def fill_interior(
         Its landmarks.
     source : ndarray of shape (h, w, 3), uint8
         The source's expression photo, and ``source_landmarks`` its landmarks.
-    target_reference : ndarray of shape (H, W, 3), uint8
-        The target's own photo, and ``target_landmarks`` its landmarks (for the tone,
-        sharpness and noise match).
+    reference : Reference
+        The target's own photo (and the source's neutral photo), measured for the
+        tone, sharpness and noise match.
     layout : Layout
-    source_neutral : tuple of ndarray of shape (h, w, 3) and (N, 2), optional
-        The source's neutral photo and its landmarks, for the tone match
-        (:func:`tone_gain`).
 
     Returns
     -------
@@ -380,10 +417,10 @@ def fill_interior(
     polygon = np.zeros(patch.shape[:2], np.float32)
     cv2.fillPoly(polygon, [np.round(local[len(layout.mouth_outer) : len(mouth)] * 16).astype(np.int32)], 1.0, shift=4)
 
-    gain = tone_gain(source, source_landmarks, target_reference, target_landmarks, layout, source_neutral, patch[polygon > 0])
+    gain = tone_gain(source, source_landmarks, reference, layout, patch[polygon > 0])
     patch *= gain
     scale = geometry.interocular(final, layout) / geometry.interocular(source_landmarks, layout)
-    patch = match_grain(patch, source, source_landmarks, target_reference, target_landmarks, scale, gain)
+    patch = match_grain(patch, source, source_landmarks, reference, scale, gain)
 
     sigma = max(FEATHER * width, 0.5)
     # shrink by a feather before blurring, and cut at the polygon: the fade ends at the

@@ -250,6 +250,11 @@ class Cloner:
         self._to_source = geometry.fit_similarity(self.t_neu[rigid], self.s_neu[rigid])
         self._source_neutral_ctrl = self.mesh.control_points(self.s_neu, self._to_source)
 
+    @functools.cached_property
+    def mouth_reference(self) -> mouth_fill.Reference:
+        """The target photo and the source's neutral photo measured for the mouth interior's match."""
+        return mouth_fill.Reference.measure(self.target_image, self.t_neu, self.layout, (self.source_image, self.s_neu))
+
     def clone_methods(
         self,
         source_expression: np.ndarray,
@@ -325,7 +330,7 @@ class Cloner:
                 r.eri, r.image = ratios[kind], with_details(kind)
             if mouth and r.eri is not None:
                 r.image, r.mouth_mask = mouth_fill.fill_interior(
-                    r.image, lm["final"], source_expression, s_exp, tgt_img, t_neu, layout, source_neutral=(self.source_image, s_neu)
+                    r.image, lm["final"], source_expression, s_exp, self.mouth_reference, layout
                 )
             results[m] = r
         return results
