@@ -160,3 +160,23 @@ def test_a_run_failing_half_way_leaves_no_file(portrait, grid_clip, tmp_path, mo
     out = tmp_path / "out.mp4"
     assert cli.main(["video", str(PORTRAIT), str(grid_clip), "-o", str(out), "--size", "128", "--method", "global"]) == 2
     assert len(calls) > 20 and os.listdir(tmp_path) == []
+
+
+def test_an_interrupted_run_says_so_and_leaves_no_file(grid_clip, tmp_path):
+    """Ctrl-C half way: one line, exit 130, nothing at the output path."""
+    import signal
+    import time
+
+    out = tmp_path / "out.mp4"
+    p = subprocess.Popen(
+        [sys.executable, "-m", "exprclone", "video", str(PORTRAIT), str(grid_clip), "-o", str(out), "--size", "256"],
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    deadline = time.time() + 60
+    while not any(tmp_path.iterdir()) and time.time() < deadline and p.poll() is None:
+        time.sleep(0.05)  # wait until the temporary output exists: encoding has begun
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 130 and err.strip().endswith("exprclone: interrupted; no output written"), err
+    assert os.listdir(tmp_path) == []

@@ -16,6 +16,8 @@ from pathlib import Path
 from .errors import ExprCloneError
 
 EXIT_USAGE = 2
+#: exit status after Ctrl-C (128 + SIGINT), as shells report it.
+EXIT_INTERRUPTED = 130
 
 
 def word_or_number(word: str, number: type):
@@ -304,6 +306,9 @@ def main(argv: list[str] | None = None) -> int:
     except ExprCloneError as e:
         print(f"exprclone: error: {e}", file=sys.stderr)
         return EXIT_USAGE
+    except KeyboardInterrupt:  # the output, written under a temporary name, is already gone
+        print("\nexprclone: interrupted; no output written", file=sys.stderr)
+        return EXIT_INTERRUPTED
     return 0
 
 
