@@ -9,7 +9,7 @@ warm-up pass, in milliseconds per frame and frames per second:
     every frame;
   * rendering (landmarks known, lambda_k fixed): global, elastic (no detail steps),
     elastic+eri and e+md, so the differences show what each stage costs;
-  * the whole ``exprclone video`` job in-process (two decoding passes, tracking,
+  * the whole ``exprclone video`` job in-process (three decoding passes, tracking,
     lambda_k chosen once, rendering, encoding with sound) for elastic and for e+md.
 """
 
@@ -81,7 +81,7 @@ def main() -> None:
     per_frame(render, n)
     print(f"  the e+md detail steps (ERI, MD, mouth) cost {(render['e+md'] - render['elastic']) / n:.1f} ms/frame")
 
-    print("\nthe whole `exprclone video` job (decode twice, track, choose lambda_k, render, encode with sound)")
+    print("\nthe whole `exprclone video` job (decode three times, track, choose lambda_k, render, encode with sound)")
     jobs = {}
     for method in ("elastic", "e+md"):
         argv = ["video", str(portrait_path), clip, "-o", OUT, "--size", str(SIZE), "--method", method]

@@ -180,3 +180,18 @@ def test_an_interrupted_run_says_so_and_leaves_no_file(grid_clip, tmp_path):
     _, err = p.communicate(timeout=60)
     assert p.returncode == 130 and err.strip().endswith("exprclone: interrupted; no output written"), err
     assert os.listdir(tmp_path) == []
+
+
+def test_the_video_is_decoded_once_to_track_once_to_fetch_and_once_to_render(portrait, grid_clip, monkeypatch):
+    passes = []
+    read = video.video_io.read_frames
+
+    def counted(path):
+        passes.append(path)
+        return read(path)
+
+    monkeypatch.setattr(video.video_io, "read_frames", counted)
+    driver = video.Driver(portrait, None, str(grid_clip), neutral_frame="closed")
+    assert len(passes) == 2 and driver.lambda_frames  # the neutral frame and the lambda_k frames in one pass
+    next(driver.frames())
+    assert len(passes) == 3

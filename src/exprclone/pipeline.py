@@ -247,8 +247,7 @@ class Cloner:
         self.mesh = warp.build_mesh(self.t_neu, target_neutral.shape, layout)
         self.neighbours = self.mesh.neighbours()
         rigid = list(layout.rigid)
-        self._to_source = geometry.fit_similarity(self.t_neu[rigid], self.s_neu[rigid])
-        self._source_neutral_ctrl = self.mesh.control_points(self.s_neu, self._to_source)
+        self._source_neutral_ctrl = self.mesh.control_points(self.s_neu, geometry.fit_similarity(self.t_neu[rigid], self.s_neu[rigid]))
 
     @functools.cached_property
     def mouth_reference(self) -> mouth_fill.Reference:

@@ -244,7 +244,8 @@ def smooth(points: np.ndarray, fps: float) -> np.ndarray:
 
     Examples
     --------
-    A motion that is quadratic in time passes unchanged; noise is reduced.
+    A motion that is quadratic in time passes unchanged (so does anything slower than
+    about 6 Hz at 25 fps); what is left is jitter, and it is reduced.
 
     >>> t = np.arange(50.0)
     >>> path = np.stack([0.01 * t**2, t], -1)[:, None, :]

@@ -2,9 +2,9 @@
 
 Each frame of the driving video is a source expression; the source's neutral face is a
 frame of the same video (by default the first with a face) or a photo of the same
-person; the target is a neutral portrait. The video is read twice: once to track and
+person; the target is a neutral portrait. The video is read three times: to track and
 smooth the landmarks (:mod:`exprclone.tracking`), which also tells which frames show
-the strongest expression, and once to render.
+the strongest expression; to fetch the neutral frame and those frames; to render.
 
 - Head motion. The source's rigid head motion is taken out of every frame before its
   expression is transferred (as for a pair of photos, :func:`global_warp.remove_head_motion`);
@@ -221,26 +221,35 @@ class Driver:
                 raise ExprCloneError(f"{video}: no frame {neutral_frame} (it has {n} frames, numbered from 0)")
             if not self.track.found[neutral_frame]:
                 raise ExprCloneError(f"{video}: no face found in frame {neutral_frame}, which was to be the neutral face")
-            self.neutral_index = neutral_frame
-            neutral_image, neutral_points = self.frames_at([neutral_frame])[0], self.points[neutral_frame]
-        if target_points is None:
-            target_points = detector.detect(target, target_name)
-        self.cloner = Cloner(neutral_image, neutral_points, target, target_points, eigenfaces=eigenfaces, layout=layout)
+            self.neutral_index, neutral_points = neutral_frame, self.points[neutral_frame]
 
         self.lambda_frames: list[int] = []
         self.lambda_k: float | str | None = None if method not in ELASTIC_METHODS else lambda_k
         if self.lambda_k == "auto" and not lambda_per_frame:
-            strength = expression_strength(self.cloner.s_neu, self.points, layout)
+            strength = expression_strength(neutral_points, self.points, layout)
             self.lambda_frames = strongest_frames(strength, self.track.found, LAMBDA_FRAMES, max(1, round(float(self.info.fps) / 2)))
+        # one more pass over the video fetches the neutral frame and the frames that choose lambda_k
+        fetched = self.frames_at(([] if self.neutral_index is None else [self.neutral_index]) + self.lambda_frames)
+        if self.neutral_index is not None:
+            neutral_image = fetched.pop(0)
+
+        if target_points is None:
+            target_points = detector.detect(target, target_name)
+        self.cloner = Cloner(neutral_image, neutral_points, target, target_points, eigenfaces=eigenfaces, layout=layout)
+        rigid = list(layout.rigid)
+        self._to_target = geometry.fit_similarity(self.cloner.s_neu[rigid], self.cloner.t_neu[rigid])
+        if self.lambda_frames:
             chosen = [
                 self.cloner.clone_methods(frame, self.points[i], ("elastic",), "auto")["elastic"].lambda_k
-                for i, frame in zip(self.lambda_frames, self.frames_at(self.lambda_frames))
+                for i, frame in zip(self.lambda_frames, fetched)
             ]
             self.lambda_k = float(np.median(chosen))
 
     def frames_at(self, indices: list[int]) -> list[np.ndarray]:
-        """The driving video's frames at ``indices``, in that order."""
+        """The driving video's frames at ``indices``, in that order (no pass over the video if none)."""
         wanted = set(indices)
+        if not wanted:
+            return []
         found = {}
         for i, frame in enumerate(video_io.read_frames(self.video)):
             if i in wanted:
@@ -252,8 +261,9 @@ class Driver:
     def _head_motion(self, points: np.ndarray) -> np.ndarray:
         """The source's head motion from its neutral face to ``points``, as a similarity in the portrait's frame."""
         rigid = list(self.layout.rigid)
-        to_target = geometry.fit_similarity(self.cloner.s_neu[rigid], self.cloner.t_neu[rigid])
-        return geometry.fit_similarity(geometry.apply(to_target, self.cloner.s_neu[rigid]), geometry.apply(to_target, points[rigid]))
+        return geometry.fit_similarity(
+            geometry.apply(self._to_target, self.cloner.s_neu[rigid]), geometry.apply(self._to_target, points[rigid])
+        )
 
     def frames(self) -> Iterator[DrivenFrame]:
         """Render every frame of the driving video, in order."""
