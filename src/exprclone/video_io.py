@@ -401,7 +401,7 @@ def _decode(path: PathLike, container: av.container.InputContainer) -> Iterator[
                 rgb = frame.to_ndarray(
                     format="rgb24", src_colorspace=matrix, dst_colorspace=Colorspace.DEFAULT, src_color_range=frame.color_range
                 )
-                # to_ndarray returns a view of FFmpeg's row-padded buffer; dlib misreads such arrays.
+                # to_ndarray returns a view of FFmpeg's row-padded buffer: give a C-contiguous copy of its own
                 yield np.ascontiguousarray(rgb)
         except av.FFmpegError as exc:
             raise ExprCloneError(f"{path}: video data is corrupt ({exc.strerror})") from exc
