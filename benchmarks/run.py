@@ -32,7 +32,7 @@ import cv2
 import numpy as np
 
 from exprclone import METHODS, clone, clone_methods, elastic, eri, geometry, global_warp, local_warp, metric, muscle, warp
-from exprclone.images import load_image
+from exprclone.io.images import load_image
 from exprclone.layout import DLIB68
 from exprclone.pipeline import default_detector, default_eigenfaces
 
@@ -143,7 +143,7 @@ def warp_peers(images, lms, repeat: int) -> dict[str, float]:
 def peak_memory_mb(data: Path) -> float:
     """Max RSS of a child process that runs one full-size e+md clone with detection."""
     code = (
-        "import resource, sys; from exprclone import clone; from exprclone.images import load_image as l; "
+        "import resource, sys; from exprclone import clone; from exprclone.io.images import load_image as l; "
         f"d='{data}/london/'; clone(l(d+'neutral_front/001_03.jpg'), l(d+'smiling_front/001_08.jpg'), l(d+'neutral_front/003_03.jpg')); "
         "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)"
     )

@@ -25,10 +25,10 @@ from pathlib import Path
 
 from run import median_ms
 
-from exprclone import cli, tracking, video
-from exprclone.images import load_image
+from exprclone import cli, drive, tracking
+from exprclone.io.images import load_image
+from exprclone.io.video import probe, read_frames, write_video
 from exprclone.pipeline import default_detector
-from exprclone.video_io import read_frames, write_video
 
 SIZE = 512
 OUT = os.path.join(tempfile.gettempdir(), "exprclone-bench.mp4")
@@ -48,21 +48,22 @@ def main() -> None:
     data = Path(args.data)
     clip = str(data / "grid" / f"{args.clip}.mpg")
     portrait_path = data / "london/neutral_front/003_03.jpg"
-    portrait = video.resize_portrait(load_image(portrait_path), None, SIZE)[0]
+    portrait = drive.resize_portrait(load_image(portrait_path), None, SIZE)[0]
     frames = list(read_frames(clip))
     n = len(frames)
     detector = default_detector()
     print(f"exprclone video benchmark: {os.cpu_count()} cores, {args.clip} ({n} frames), {SIZE}x{SIZE} output, median of {args.repeat}")
 
-    driver = video.Driver(portrait, None, clip, method="e+md")
-    lam = driver.lambda_k
-    rendered = [f.image for f in driver.frames()]
+    fps = probe(clip).fps
+    recording = drive.prepare(portrait, None, lambda: read_frames(clip), float(fps), method="e+md")
+    lam = recording.driver.lambda_k
+    rendered = [f.image for f in recording.frames(frames)]
 
     print("\ninput and output")
     per_frame(
         {
             "decode the clip": median_ms(lambda: sum(1 for _ in read_frames(clip)), args.repeat),
-            f"encode {SIZE}x{SIZE} H.264": median_ms(lambda: write_video(OUT, iter(rendered), driver.info.fps), args.repeat),
+            f"encode {SIZE}x{SIZE} H.264": median_ms(lambda: write_video(OUT, iter(rendered), fps), args.repeat),
         },
         n,
     )
@@ -76,8 +77,8 @@ def main() -> None:
     print(f"\nrendering, landmarks known, lambda_k fixed ({lam:g})")
     render = {}
     for method in ("global", "elastic", "elastic+eri", "e+md"):
-        d = video.Driver(portrait, None, clip, method=method, lambda_k=lam)
-        render[method] = median_ms(lambda d=d: sum(1 for _ in d.frames()), args.repeat)
+        d = drive.Driver(recording.driver.cloner, method, lam)
+        render[method] = median_ms(lambda d=d: sum(1 for _ in d.frames(frames, recording.points)), args.repeat)
     per_frame(render, n)
     print(f"  the e+md detail steps (ERI, MD, mouth) cost {(render['e+md'] - render['elastic']) / n:.1f} ms/frame")
 

@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 
 from exprclone import geometry
-from exprclone.evaluate import Dataset, smile_strength, summarise
-from exprclone.evaluation import SAME_PERSON, TEETH_SHOWN, FaceDescriptor, identity_distance, landmark_error, teeth
+from exprclone.evaluation.london import Dataset
+from exprclone.evaluation.report import smile_strength, summarise
+from exprclone.evaluation.scores import SAME_PERSON, TEETH_SHOWN, FaceDescriptor, identity_distance, landmark_error, teeth
 from exprclone.layout import DLIB68
 
 

@@ -1,4 +1,4 @@
-"""Tests for exprclone.images: reading any image file as RGB uint8, writing atomically."""
+"""Tests for exprclone.io.images: reading any image file as RGB uint8, writing atomically."""
 
 import os
 import warnings
@@ -10,7 +10,7 @@ import pytest
 from PIL import Image
 
 from exprclone.errors import ExprCloneError, ExprCloneWarning
-from exprclone.images import check_output_path, load_image, save_image
+from exprclone.io.images import check_output_path, load_image, save_image
 
 DATA = Path(os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
 

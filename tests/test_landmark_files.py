@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from exprclone.errors import ExprCloneError
-from exprclone.frl_template import FRL189_TO_DLIB68, frl_to_68
-from exprclone.images import load_image
-from exprclone.landmark_files import read_landmarks, read_tem, write_landmarks
+from exprclone.io.frl_template import FRL189_TO_DLIB68, frl_to_68
+from exprclone.io.images import load_image
+from exprclone.io.landmarks import read_landmarks, read_tem, write_landmarks
 from exprclone.landmarks import Detector
 
 SHAPE = (1350, 1350, 3)

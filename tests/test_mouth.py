@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import exprclone
-from exprclone import lips, mouth
+from exprclone import lips, mouth, raster
 from exprclone.layout import DLIB68
 
 INNER = list(DLIB68.mouth_inner)
@@ -74,7 +74,7 @@ def grain_pair(photo):
 
 def high_frequency(image, region):
     """Mean squared difference of the luma from its Gaussian blur (sigma 1.5 px) in ``region``."""
-    luma = image.astype(np.float32) @ mouth.LUMA
+    luma = raster.luma(image.astype(np.float32))
     return float(np.mean((luma - cv2.GaussianBlur(luma, (0, 0), 1.5))[region] ** 2))
 
 

@@ -77,16 +77,21 @@ def test_clone_moves_the_target_mouth_towards_the_source_smile(pair, results):
 
 
 def test_bad_arguments_raise_the_project_error(pair):
+    """One error type, a ValueError, that says which input is wrong (its role, not a file) and what is wrong with it."""
     images, landmarks = pair
-    with pytest.raises(exprclone.ExprCloneError, match="unknown method"):
-        exprclone.clone(*images, method="warp", landmarks=landmarks)
-    with pytest.raises(exprclone.ExprCloneError, match="lambda_k"):
-        exprclone.clone(*images, lambda_k=-1, landmarks=landmarks)
-    bad = (landmarks[0], landmarks[1][:60], landmarks[2])
-    with pytest.raises(exprclone.ExprCloneError, match="60 landmarks, expected 68"):
-        exprclone.clone(*images, landmarks=bad)
-    with pytest.raises(exprclone.ExprCloneError, match="target_neutral: no face"):
+    cases = [
+        (dict(method="warp"), "method", "unknown method 'warp'"),
+        (dict(lambda_k=-1), "lambda", "must be 'auto' or a number >= 0"),
+        (dict(landmarks=(landmarks[0], landmarks[1][:60], landmarks[2])), "source_expression", "found 60 landmarks, expected 68"),
+    ]
+    for options, subject, problem in cases:
+        with pytest.raises(exprclone.ExprCloneError) as caught:
+            exprclone.clone(*images, **{"landmarks": landmarks, **options})
+        assert isinstance(caught.value, ValueError) and caught.value.subject == subject and caught.value.problem.startswith(problem)
+    with pytest.raises(exprclone.ExprCloneError, match="^target_neutral: no face found"):
         exprclone.clone(images[0], images[1], np.full((400, 400, 3), 128, np.uint8), landmarks=landmarks[:2] + (None,))
+    with pytest.raises(exprclone.ExprCloneError, match="^source_neutral: expected an \\(H, W, 3\\) uint8"):
+        exprclone.clone(images[0].astype(float), *images[1:], landmarks=landmarks)
 
 
 def test_methods_together_equal_methods_alone(pair, results):

@@ -3,9 +3,9 @@ import pytest
 
 from exprclone import mouth, tracking
 from exprclone.errors import ExprCloneError
+from exprclone.io.video import read_frames
 from exprclone.layout import DLIB68
 from exprclone.pipeline import default_detector
-from exprclone.video_io import read_frames
 
 
 @pytest.fixture(scope="module")

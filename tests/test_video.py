@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 from conftest import GRID, neutral_path
 
-from exprclone import mouth, pipeline, tracking, video
-from exprclone.images import load_image
+from exprclone import drive, mouth, pipeline, tracking
+from exprclone.io.images import load_image
+from exprclone.io.video import probe, read_frames
 from exprclone.layout import DLIB68
-from exprclone.video_io import probe, read_frames
 
 PORTRAIT = neutral_path("003")
 CLIPS = sorted(GRID.glob("*.mpg"))
@@ -29,9 +29,14 @@ def opening(points):
     return np.array([mouth.opening(p, DLIB68) for p in points])
 
 
+def prepare(portrait, clip, **options) -> drive.Recording:
+    """The portrait prepared to be driven by a clip file."""
+    return drive.prepare(portrait, None, lambda: read_frames(clip), float(probe(clip).fps), **options)
+
+
 @pytest.fixture(scope="module")
 def portrait(london):
-    return video.resize_portrait(load_image(PORTRAIT), None, 256)[0]
+    return drive.resize_portrait(load_image(PORTRAIT), None, 256)[0]
 
 
 @pytest.fixture(scope="module")
@@ -39,8 +44,8 @@ def driven(portrait, grid_clip):
     """The portrait driven by a clip with smoothing (as shipped) and without."""
     out = {}
     for smooth in (True, False):
-        driver = video.Driver(portrait, None, str(grid_clip), smooth=smooth)
-        out[smooth] = driver, list(driver.frames())
+        recording = prepare(portrait, grid_clip, smooth=smooth)
+        out[smooth] = recording, list(recording.frames(read_frames(grid_clip)))
     return out
 
 
@@ -67,26 +72,26 @@ def test_output_mouth_follows_the_driver_on_every_clip(portrait):
     for clip in CLIPS:
         raw = raw_landmarks(clip)
         seen = [i for i, p in enumerate(raw) if p is not None]
-        driver = video.Driver(portrait, None, str(clip), neutral_frame="closed")
-        final = np.array([f.result.landmarks["final"] for f in driver.frames()])
+        recording = prepare(portrait, clip, neutral_frame="closed")
+        final = np.array([f.result.landmarks["final"] for f in recording.frames(read_frames(clip))])
         correlations.append(np.corrcoef(opening(np.array([raw[i] for i in seen])), opening(final[seen]))[0, 1])
     assert np.median(correlations) > 0.9, correlations
 
 
 def test_every_frame_is_rendered_at_the_portrait_size_with_one_lambda(driven, portrait):
-    driver, frames = driven[True]
+    recording, frames = driven[True]
     assert [f.index for f in frames] == list(range(75))
     assert all(f.image.shape == portrait.shape for f in frames)
-    assert driver.neutral_index == int(np.argmax(driver.track.found))
-    assert len(driver.lambda_frames) == video.LAMBDA_FRAMES
-    assert min(np.diff(sorted(driver.lambda_frames))) >= 12  # half a second apart at 25 fps
-    assert {f.result.lambda_k for f in frames} == {driver.lambda_k}
-    assert frames[driver.neutral_index].result.mouth_mask is None  # the neutral frame is the neutral face
+    assert recording.neutral_index == int(np.argmax(recording.track.found))
+    assert len(recording.lambda_frames) == drive.LAMBDA_FRAMES
+    assert min(np.diff(sorted(recording.lambda_frames))) >= 12  # half a second apart at 25 fps
+    assert {f.result.lambda_k for f in frames} == {recording.driver.lambda_k}
+    assert frames[recording.neutral_index].result.mouth_mask is None  # the neutral frame is the neutral face
 
 
 def test_head_motion_is_carried_as_the_same_rotation_and_scale(driven):
     """The source's head similarity, moved into the portrait's frame, keeps its angle and scale."""
-    driver, _ = driven[True]
+    driver = driven[True][0].driver
     s_neu = driver.cloner.s_neu
     angle, scale = np.deg2rad(6), 1.05
     turn = np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]) * scale
@@ -98,12 +103,26 @@ def test_head_motion_is_carried_as_the_same_rotation_and_scale(driven):
 
 
 def test_neutral_photo_of_the_source(portrait, grid_clip):
-    """The source's neutral face may be a photo instead of a frame."""
+    """The source's neutral face may be a photo instead of a frame: that photo, as a frame, changes nothing."""
     frame = next(f for i, f in enumerate(read_frames(grid_clip)) if i == 3)
-    driver = video.Driver(portrait, None, str(grid_clip), source_neutral=(frame, None), method="global")
-    assert driver.neutral_index is None and driver.lambda_k is None
-    first = next(driver.frames())
-    assert first.image.shape == portrait.shape
+    recording = prepare(portrait, grid_clip, source_neutral=(frame, None), method="global")
+    assert recording.neutral_index is None and recording.driver.lambda_k is None
+    photo_points = pipeline.default_detector().detect(frame)
+    same = recording.driver.render(frame, photo_points).image
+    assert np.abs(same.astype(int) - portrait).max() <= 1
+    moved = [f.image for f in recording.frames(read_frames(grid_clip))]
+    assert max(np.abs(m.astype(int) - portrait).mean() for m in moved) > 1.0
+
+
+def test_frames_from_a_stream_that_cannot_be_read_twice(driven, grid_clip):
+    """A live source (a webcam, a socket) is read once: the driver renders any iterator of frames with their landmarks."""
+    recording, frames = driven[True]
+    tracker = tracking.Tracker(pipeline.default_detector())
+    stream = ((frame, tracker.update(frame)) for frame in read_frames(grid_clip))  # one pass, landmarks as they come
+    live = [recording.driver.render(frame, points, i) for i, (frame, points) in enumerate(stream) if points is not None]
+    assert len(live) == 75 and all(f.image.shape == frames[0].image.shape for f in live)
+    raw = driven[False][1]  # the same frames, rendered from the recording's raw fits
+    assert np.array_equal(live[40].result.landmarks["source_expression"], raw[40].result.landmarks["source_expression"])
 
 
 @pytest.mark.parametrize("clip", CLIPS, ids=[c.stem for c in CLIPS])
@@ -153,7 +172,7 @@ def test_a_run_failing_half_way_leaves_no_file(portrait, grid_clip, tmp_path, mo
     def failing(self, *args, **kwargs):
         calls.append(1)
         if len(calls) > 20:
-            raise ExprCloneError("simulated failure")
+            raise ExprCloneError("frame", "simulated failure")
         return render(self, *args, **kwargs)
 
     monkeypatch.setattr(pipeline.Cloner, "clone_methods", failing)
@@ -182,16 +201,12 @@ def test_an_interrupted_run_says_so_and_leaves_no_file(grid_clip, tmp_path):
     assert os.listdir(tmp_path) == []
 
 
-def test_the_video_is_decoded_once_to_track_once_to_fetch_and_once_to_render(portrait, grid_clip, monkeypatch):
+def test_a_recording_is_read_once_to_track_and_once_to_fetch(portrait, grid_clip):
     passes = []
-    read = video.video_io.read_frames
 
-    def counted(path):
-        passes.append(path)
-        return read(path)
+    def open_frames():
+        passes.append(1)
+        return read_frames(grid_clip)
 
-    monkeypatch.setattr(video.video_io, "read_frames", counted)
-    driver = video.Driver(portrait, None, str(grid_clip), neutral_frame="closed")
-    assert len(passes) == 2 and driver.lambda_frames  # the neutral frame and the lambda_k frames in one pass
-    next(driver.frames())
-    assert len(passes) == 3
+    recording = drive.prepare(portrait, None, open_frames, 25.0, neutral_frame="closed")
+    assert len(passes) == 2 and recording.lambda_frames  # the neutral frame and the lambda_k frames in one pass

@@ -1,4 +1,4 @@
-"""Tests for exprclone.video_io: probing and decoding videos, encoding frames (with sound) atomically."""
+"""Tests for exprclone.io.video: probing and decoding videos, encoding frames (with sound) atomically."""
 
 from fractions import Fraction
 from pathlib import Path
@@ -10,7 +10,7 @@ import pytest
 from conftest import neutral_path
 
 from exprclone.errors import ExprCloneError
-from exprclone.video_io import probe, read_frames, write_video
+from exprclone.io.video import probe, read_frames, write_video
 
 
 @pytest.fixture(scope="module")

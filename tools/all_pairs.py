@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from exprclone import METHODS, clone_methods
-from exprclone.evaluate import Dataset
-from exprclone.images import load_image
+from exprclone.evaluation.london import Dataset
+from exprclone.io.images import load_image
 from exprclone.pipeline import default_detector
 
 
@@ -35,7 +35,7 @@ def run_pair(job):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            results = clone_methods(*(photo(p) for p in paths), landmarks=tuple(landmarks[p] for p in paths), names=paths)
+            results = clone_methods(*(photo(p) for p in paths), landmarks=tuple(landmarks[p] for p in paths))
         wrong = [m for m, r in results.items() if r.image.shape != photo(paths[2]).shape]
         return (
             a,

@@ -29,8 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from exprclone.images import load_image
-from exprclone.landmark_files import read_tem
+from exprclone.io.images import load_image
+from exprclone.io.landmarks import read_tem
 from exprclone.landmarks import Detector
 
 PAIR_GAIN = 0.01  # minimum drop in median normalised error that justifies two points over one

@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 
 from exprclone import METHODS, clone_methods
-from exprclone.compare import cell, face_box
-from exprclone.evaluate import Dataset
-from exprclone.images import load_image, save_image
+from exprclone.evaluation.figures import cell, face_box
+from exprclone.evaluation.london import Dataset
+from exprclone.io.images import load_image, save_image
 from exprclone.pipeline import default_detector
 
 

@@ -12,6 +12,7 @@ import os
 from pathlib import Path
 
 from exprclone.eigenface import train
+from exprclone.io.images import load_image
 from exprclone.landmarks import Detector
 from exprclone.layout import DLIB68
 
@@ -21,6 +22,8 @@ parser.add_argument("-o", "--output", default=str(Path(__file__).parents[1] / "s
 args = parser.parse_args()
 london = Path(args.data) / "london"
 paths = sorted(london.glob("neutral_front/*.jpg")) + sorted(london.glob("smiling_front/*.jpg"))
-basis = train([str(p) for p in paths], Detector(), DLIB68, people=[p.name[:3] for p in paths])
+detector = Detector()
+faces = ((image, detector.detect(image, str(p))) for p, image in ((p, load_image(p)) for p in paths))
+basis = train(faces, DLIB68, people=[p.name[:3] for p in paths])
 basis.save(args.output)
 print(f"{args.output}: {basis.components.shape[0]} components from {len(paths)} photos")

@@ -18,11 +18,11 @@ from pathlib import Path
 
 import numpy as np
 
-from exprclone import mouth, tracking, video
-from exprclone.images import load_image
+from exprclone import drive, mouth, tracking
+from exprclone.io.images import load_image
+from exprclone.io.video import probe, read_frames
 from exprclone.layout import DLIB68
 from exprclone.pipeline import default_detector
-from exprclone.video_io import read_frames
 
 MOUTH = DLIB68.mouth_outer + DLIB68.mouth_inner
 
@@ -39,7 +39,7 @@ def main() -> None:
     parser.add_argument("--neutral-frame", default=None, help="a frame number, or closed (default: the first frame with a face)")
     args = parser.parse_args()
     data = Path(args.data)
-    portrait = video.resize_portrait(load_image(data / "london/neutral_front" / f"{args.portrait}_03.jpg"), None, args.size)[0]
+    portrait = drive.resize_portrait(load_image(data / "london/neutral_front" / f"{args.portrait}_03.jpg"), None, args.size)[0]
     detector = default_detector()
     print(
         "clip | jitter smoothed | jitter raw | ratio | opening correlation, driver vs output | frames without a face | lambda_k | neutral"
@@ -54,8 +54,10 @@ def main() -> None:
         out = {}
         for smooth in (True, False):
             neutral = int(args.neutral_frame) if (args.neutral_frame or "").isdigit() else args.neutral_frame
-            driver = video.Driver(portrait, None, str(clip), smooth=smooth, neutral_frame=neutral)
-            out[smooth] = driver, np.array([f.result.landmarks["final"] for f in driver.frames()])
+            recording = drive.prepare(
+                portrait, None, lambda clip=clip: read_frames(clip), float(probe(clip).fps), smooth=smooth, neutral_frame=neutral
+            )
+            out[smooth] = recording, np.array([f.result.landmarks["final"] for f in recording.frames(read_frames(clip))])
         seen = [i for i, p in enumerate(raw) if p is not None]
         driver_opening = openings(np.array([raw[i] for i in seen]))
         result_opening = openings(out[True][1][seen])
@@ -64,7 +66,7 @@ def main() -> None:
         correlations.append(np.corrcoef(driver_opening, result_opening)[0, 1])
         d = out[True][0]
         cells = [clip.stem, f"{smoothed:.4f}", f"{rough:.4f}", f"{ratios[-1]:.2f}", f"{correlations[-1]:.3f}"]
-        print(" | ".join(cells + [str(d.track.missing), f"{d.lambda_k:g}", str(d.neutral_index)]))
+        print(" | ".join(cells + [str(d.track.missing), f"{d.driver.lambda_k:g}", str(d.neutral_index)]))
     print(f"\nmedian jitter ratio {np.median(ratios):.2f}; correlation median {np.median(correlations):.3f}, min {min(correlations):.3f}")
 
 

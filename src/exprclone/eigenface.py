@@ -12,13 +12,14 @@ on the 144 photos (neutral and smiling) of the Face Research Lab London Set
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
 from dataclasses import dataclass
 from importlib import resources
 
 import cv2
 import numpy as np
 
-from . import geometry
+from . import geometry, raster
 from .layout import Layout
 
 #: side of the square face crop, in pixels.
@@ -47,7 +48,7 @@ def downscaled(image: np.ndarray, transform: np.ndarray) -> tuple[np.ndarray, fl
     Sampling a 1350-pixel photo straight into a 64-pixel crop would alias; shrinking
     first with area averaging keeps the crop a faithful low-pass view.
     """
-    grey = cv2.cvtColor(image, cv2.COLOR_RGB2GRAY) if image.ndim == 3 else image
+    grey = raster.luma(image)
     scale = min(1.0, 2.0 * float(np.hypot(*transform[:, 0])))
     if scale < 1.0:
         grey = cv2.resize(grey, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA)
@@ -127,25 +128,22 @@ class Eigenfaces:
             return cls.load(path)
 
 
-def train(paths: list[str], detector, layout: Layout, people: list[str] | None = None, n_components: int = 16) -> Eigenfaces:
-    """Fit a basis on the aligned crops of the faces in ``paths`` (image files).
+def train(
+    faces: Iterable[tuple[np.ndarray, np.ndarray]], layout: Layout, people: list[str] | None = None, n_components: int = 16
+) -> Eigenfaces:
+    """Fit a basis on the aligned crops (:func:`crop`) of faces.
 
     Parameters
     ----------
-    paths : list of str
-        Face photos, one face each (the largest is used). Without ``people`` they are
-        taken to show one person with different expressions, as in the paper.
-    detector : exprclone.landmarks.Detector
+    faces : iterable of (image, landmarks)
+        ``(H, W, 3)`` uint8 RGB photos, one face each, with its ``(N, 2)`` landmarks.
+        Without ``people`` they are taken to show one person with different
+        expressions, as in the paper.
     layout : Layout
     people : list of str, optional
         Whose face each photo shows.
     n_components : int
         Axes kept; at most one fewer than the number of photos.
     """
-    from .images import load_image
-
-    crops = []
-    for path in paths:
-        image = load_image(path)
-        crops.append(crop(image, detector.detect(image, str(path)), layout))
-    return Eigenfaces.fit(np.asarray(crops), people, min(n_components, len(crops) - 1))
+    crops = np.asarray([crop(image, points, layout) for image, points in faces])
+    return Eigenfaces.fit(crops, people, min(n_components, len(crops) - 1))

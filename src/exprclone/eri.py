@@ -23,7 +23,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from . import geometry
+from . import geometry, raster
 from .layout import Layout
 
 #: added to both luminances (in [0, 1]) so that dark pixels give no NaN or infinity.
@@ -41,9 +41,8 @@ FILTER_PIXELS = 3.0
 
 
 def luminance(image: np.ndarray) -> np.ndarray:
-    """Rec. 601 luma of a uint8 RGB image, float32 in [0, 1]; a 2-D image is taken to be luma already."""
-    grey = cv2.cvtColor(image, cv2.COLOR_RGB2GRAY) if image.ndim == 3 else image
-    return grey.astype(np.float32) / 255.0
+    """BT.601 luma of a uint8 RGB image (:func:`raster.luma`), float32 in [0, 1]; a 2-D image is taken to be luma already."""
+    return raster.luma(image).astype(np.float32) / 255.0
 
 
 def ratio_mask(shape: tuple[int, int], landmarks: np.ndarray, forehead: np.ndarray, layout: Layout) -> np.ndarray:
@@ -69,9 +68,9 @@ def ratio_mask(shape: tuple[int, int], landmarks: np.ndarray, forehead: np.ndarr
     cv2.fillConvexPoly(mask, np.round(hull).astype(np.int32), 1.0)
     # shrink by the feather width so the fade ends inside the face, not on the background
     k = max(1, int(round(2 * FEATHER * iod)))
-    mask = cv2.erode(mask, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * k + 1, 2 * k + 1)))
+    mask = raster.erode(mask, k)
     for holes in (*layout.eyes, layout.mouth_inner):
-        cv2.fillPoly(mask, [np.round(pts[list(holes)] * 16).astype(np.int32)], 0.0, shift=4)
+        raster.fill_polygon(mask, pts[list(holes)], 0.0)
     mask = cv2.GaussianBlur(mask, (0, 0), FEATHER * iod)
     return np.clip(cv2.resize(mask, (shape[1], shape[0]), interpolation=cv2.INTER_LINEAR), 0.0, 1.0)
 

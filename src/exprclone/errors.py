@@ -1,8 +1,41 @@
 """The one exception type (and warning type) a user of exprclone can cause."""
 
+import contextlib
+from collections.abc import Iterator
 
-class ExprCloneError(Exception):
-    """Bad input: a message that names the file and the problem, fit for one line on stderr."""
+
+class ExprCloneError(ValueError):
+    """Bad input: which input (``subject``) and what is wrong with it (``problem``).
+
+    The core names inputs by their role (``"target_neutral"``, ``"method"``) and the
+    outer layers by what the user gave (a file path, a form field); :meth:`about`
+    re-words one into the other. The command line prints ``subject: problem`` on one
+    line, the server answers it as JSON with status 400 or 422, and a batch report
+    writes it in a row.
+
+    Examples
+    --------
+    >>> e = ExprCloneError("target_neutral", "no face found")
+    >>> str(e), str(e.about({"target_neutral": "b.jpg"}))
+    ('target_neutral: no face found', 'b.jpg: no face found')
+    """
+
+    def __init__(self, subject: str, problem: str) -> None:
+        super().__init__(f"{subject}: {problem}")
+        self.subject, self.problem = str(subject), problem
+
+    def about(self, names: dict[str, str]) -> "ExprCloneError":
+        """The same problem with the subject re-named by ``names`` (unchanged if not in it)."""
+        return ExprCloneError(names.get(self.subject, self.subject), self.problem)
+
+
+@contextlib.contextmanager
+def naming(names: dict[str, str]) -> Iterator[None]:
+    """Re-word the ExprCloneErrors raised inside: their subjects re-named by ``names`` (:meth:`ExprCloneError.about`)."""
+    try:
+        yield
+    except ExprCloneError as e:
+        raise e.about(names) from None
 
 
 class ExprCloneWarning(UserWarning):

@@ -44,6 +44,31 @@ def fit_similarity(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
     return np.array([[a, -b, t[0]], [b, a, t[1]]])
 
 
+def fit_rigid(src: np.ndarray, dst: np.ndarray, layout: Layout) -> np.ndarray:
+    """The similarity taking one face's rigid landmarks (``layout.rigid``) to another's: head motion, or one face placed on another."""
+    rigid = list(layout.rigid)
+    return fit_similarity(np.asarray(src)[rigid], np.asarray(dst)[rigid])
+
+
+def box(points: np.ndarray, shape: tuple[int, ...], margin: float = 0.0, *, closed: bool = True) -> tuple[slice, slice]:
+    """``(rows, columns)`` of the pixels the points' bounding box covers, grown by ``margin`` pixels, inside the image.
+
+    ``closed``: the pixel under the largest coordinate is included (the box ends at
+    ``ceil(max + margin) + 1``); otherwise it ends at ``ceil(max + margin)``, as the ERI's
+    face box and the mouth patch were first written (their outputs depend on the exact box).
+
+    Examples
+    --------
+    >>> box(np.array([[2.5, 1.0], [4.0, 3.2]]), (10, 10))
+    (slice(1, 5, None), slice(2, 5, None))
+    >>> box(np.array([[2.5, 1.0], [4.0, 3.2]]), (10, 10), margin=3, closed=False)
+    (slice(0, 7, None), slice(0, 7, None))
+    """
+    lo = np.maximum(np.floor(points.min(0) - margin).astype(int), 0)
+    hi = np.minimum(np.ceil(points.max(0) + margin).astype(int) + int(closed), (shape[1], shape[0]))
+    return slice(int(lo[1]), int(hi[1])), slice(int(lo[0]), int(hi[0]))
+
+
 def apply(transform: np.ndarray, points: np.ndarray) -> np.ndarray:
     """Apply a ``(2, 3)`` transform to ``(N, 2)`` points."""
     points = np.asarray(points, float)

@@ -30,8 +30,7 @@ def remove_head_motion(neutral: np.ndarray, expression: np.ndarray, layout: Layo
     -------
     ndarray of shape (N, 2)
     """
-    rigid = list(layout.rigid)
-    return geometry.apply(geometry.fit_similarity(expression[rigid], neutral[rigid]), expression)
+    return geometry.apply(geometry.fit_rigid(expression, neutral, layout), expression)
 
 
 def global_landmarks(source_neutral: np.ndarray, source_expression: np.ndarray, target_neutral: np.ndarray, layout: Layout) -> np.ndarray:

@@ -25,10 +25,10 @@ def model_path(name: str) -> str:
     """Path of a model file shipped in ``face-recognition-models``."""
     spec = importlib.util.find_spec("face_recognition_models")
     if spec is None or spec.origin is None:
-        raise ExprCloneError("face-recognition-models is not installed: pip install face-recognition-models")
+        raise ExprCloneError("face-recognition-models", "not installed: pip install face-recognition-models")
     path = os.path.join(os.path.dirname(spec.origin), "models", name)
     if not os.path.isfile(path):
-        raise ExprCloneError(f"{path}: model file missing; reinstall face-recognition-models")
+        raise ExprCloneError(path, "model file missing; reinstall face-recognition-models")
     return path
 
 
@@ -73,14 +73,14 @@ class Detector:
         shape = self._predictor(np.ascontiguousarray(image), rect)
         return np.array([(p.x, p.y) for p in shape.parts()], dtype=float)
 
-    def detect(self, image: np.ndarray, name: str = "image") -> np.ndarray:
+    def detect(self, image: np.ndarray, subject: str = "image") -> np.ndarray:
         """Landmarks of the largest face in ``image`` (uint8 RGB, ``(H, W, 3)``).
 
         Parameters
         ----------
         image : ndarray of shape (H, W, 3), uint8
-        name : str
-            How to name the image in messages (its file path).
+        subject : str
+            What the image is, for messages (its role, such as ``target_neutral``).
 
         Returns
         -------
@@ -93,7 +93,7 @@ class Detector:
         """
         boxes = self.faces(image)
         if not boxes:
-            raise ExprCloneError(f"{name}: no face found (use a frontal photo or pass landmarks with --landmarks)")
+            raise ExprCloneError(subject, "no face found (use a frontal photo, or give its landmarks)")
         if len(boxes) > 1:
-            warnings.warn(f"{name}: {len(boxes)} faces found, using the largest", ExprCloneWarning, stacklevel=2)
+            warnings.warn(f"{subject}: {len(boxes)} faces found, using the largest", ExprCloneWarning, stacklevel=2)
         return self.fit(image, boxes[0])

@@ -53,6 +53,11 @@ class Layout:
     muscle_areas: tuple[MuscleArea, ...]
 
     @property
+    def mouth_corners(self) -> tuple[int, int]:
+        """The two outer mouth corners: the first outer-lip point and the one half-way round."""
+        return self.mouth_outer[0], self.mouth_outer[len(self.mouth_outer) // 2]
+
+    @property
     def organs(self) -> dict[str, tuple[int, ...]]:
         """Organs re-shaped independently by local warping (Eqs. 1-2).
 

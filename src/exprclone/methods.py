@@ -1,7 +1,75 @@
-"""The names of the seven methods of the paper's Fig. 11, (a)-(g).
+"""The seven methods of the paper's Fig. 11 as data: a shape stage and the detail stages after it.
 
-Kept apart from the pipeline so that the command line can list them without loading
-numpy, OpenCV and SciPy.
+Pure data, kept apart from the pipeline so that the command line can list the methods
+without loading numpy, OpenCV and SciPy. A method is looked up by name once, at the door
+(:func:`lookup`); everything after that reads its fields, never its name.
+
+>>> [m.name for m in TABLE if m.shape == "elastic"]
+['elastic', 'elastic+eri', 'e+md']
+>>> lookup(("e+md",))[0].details
+('eri', 'md')
 """
 
-METHODS = ("global", "local", "elastic", "global+eri", "local+eri", "elastic+eri", "e+md")
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .errors import ExprCloneError
+
+#: the shape stages, in the order they are computed (each may use the ones before it).
+SHAPES = ("global", "local", "elastic")
+
+
+@dataclass(frozen=True)
+class Method:
+    """One method of Fig. 11.
+
+    Attributes
+    ----------
+    name : str
+    panel : str
+        Its letter in Figs. 11-13.
+    shape : str
+        The landmarks it warps the target to: ``global`` (GI), ``local`` (LI) or
+        ``elastic`` (the elastic model's balance of the two, Eqs. 3-8).
+    details : tuple of str
+        The illumination-detail stages after the warp: ``eri`` (Liu et al.'s expression
+        ratio image), ``md`` (the muscle-distribution model weighting it, Eqs. 9-11).
+    """
+
+    name: str
+    panel: str
+    shape: str
+    details: tuple[str, ...] = ()
+
+    @property
+    def eri(self) -> bool:
+        """Whether the ERI is applied (and, with it, the mouth interior pasted)."""
+        return "eri" in self.details
+
+    @property
+    def md(self) -> bool:
+        """Whether the ERI is weighted by the MD model's mask."""
+        return "md" in self.details
+
+
+TABLE = (
+    Method("global", "a", "global"),
+    Method("local", "b", "local"),
+    Method("elastic", "c", "elastic"),
+    Method("global+eri", "d", "global", ("eri",)),
+    Method("local+eri", "e", "local", ("eri",)),
+    Method("elastic+eri", "f", "elastic", ("eri",)),
+    Method("e+md", "g", "elastic", ("eri", "md")),
+)
+#: the methods' names, in the order of Fig. 11.
+METHODS = tuple(m.name for m in TABLE)
+BY_NAME = {m.name: m for m in TABLE}
+
+
+def lookup(names: tuple[str, ...] | list[str]) -> tuple[Method, ...]:
+    """The methods named, or ExprCloneError (subject ``method``) for the first unknown name."""
+    unknown = [n for n in names if n not in BY_NAME]
+    if unknown:
+        raise ExprCloneError("method", f"unknown method {unknown[0]!r}; choose one of: {', '.join(METHODS)}")
+    return tuple(BY_NAME[n] for n in names)

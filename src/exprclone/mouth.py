@@ -31,7 +31,7 @@ import cv2
 import numpy as np
 from scipy.spatial import Delaunay
 
-from . import geometry, warp
+from . import geometry, raster, warp
 from .layout import Layout
 
 #: inner-lip polygon area over the squared mouth width (:func:`opening`): below the first
@@ -57,14 +57,14 @@ REBLUR = 1.0
 EDGE_SHARE = 0.02
 #: seed of the noise given to the pasted interior: the same inputs give the same image.
 NOISE_SEED = 0
-#: weights of R, G and B in the luma (ITU-R BT.601).
-LUMA = np.array([0.299, 0.587, 0.114], np.float32)
+#: the patch warped from the source reaches this share of the mouth width beyond the lips.
+PATCH_MARGIN = 0.1
 
 
 def mouth_width(landmarks: np.ndarray, layout: Layout) -> float:
     """Distance between the outer mouth corners."""
-    outer = layout.mouth_outer
-    return float(np.linalg.norm(landmarks[outer[len(outer) // 2]] - landmarks[outer[0]]))
+    i, j = layout.mouth_corners
+    return float(np.linalg.norm(landmarks[j] - landmarks[i]))
 
 
 def opening(landmarks: np.ndarray, layout: Layout) -> float:
@@ -97,18 +97,16 @@ def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> tuple[
     """
     teeth = np.zeros(image.shape[:2], bool)
     cavity = teeth.copy()
-    lo = np.maximum(np.floor(landmarks[list(layout.mouth_outer)].min(0)).astype(int), 0)
-    hi = np.minimum(np.ceil(landmarks[list(layout.mouth_outer)].max(0)).astype(int) + 1, (image.shape[1], image.shape[0]))
-    box = (slice(lo[1], hi[1]), slice(lo[0], hi[0]))
-    crop = image[box]
+    box = geometry.box(landmarks[list(layout.mouth_outer)], image.shape)
+    crop, corner = image[box], (box[1].start, box[0].start)
     inner, outer = np.zeros(crop.shape[:2], np.uint8), np.zeros(crop.shape[:2], np.uint8)
-    cv2.fillPoly(inner, [np.round((landmarks[list(layout.mouth_inner)] - lo) * 16).astype(np.int32)], 1, shift=4)
-    cv2.fillPoly(outer, [np.round((landmarks[list(layout.mouth_outer)] - lo) * 16).astype(np.int32)], 1, shift=4)
+    raster.fill_polygon(inner, landmarks[list(layout.mouth_inner)] - corner, 1)
+    raster.fill_polygon(outer, landmarks[list(layout.mouth_outer)] - corner, 1)
     lip, inner = (outer > 0) & (inner == 0), inner > 0
     if not lip.any() or not inner.any():
         return teeth, cavity
     saturation = cv2.cvtColor(crop, cv2.COLOR_RGB2HSV)[..., 1].astype(np.float32)
-    luma = crop.astype(np.float32) @ LUMA
+    luma = raster.luma(crop.astype(np.float32))
     lip_luma = np.median(luma[lip])
     teeth[box] = inner & (saturation < TOOTH_SATURATION * np.median(saturation[lip])) & (luma > lip_luma)
     cavity[box] = inner & (luma < CAVITY * lip_luma)
@@ -135,7 +133,7 @@ def sclera_colour(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> n
     pixels = image[mask > 0].astype(np.float32)
     if len(pixels) < 8:
         return np.full(3, 200.0, np.float32)
-    luma = pixels @ LUMA
+    luma = raster.luma(pixels)
     return np.median(pixels[luma >= np.percentile(luma, 75)], axis=0)
 
 
@@ -235,9 +233,7 @@ def face_box(image: np.ndarray, landmarks: np.ndarray, scale: float = 1.0) -> np
     Resizing is bilinear, as the warp samples, so a face brought to another photo's scale
     is as sharp and as noisy as its warped pixels are there.
     """
-    lo = np.maximum(np.floor(landmarks.min(0)).astype(int), 0)
-    hi = np.minimum(np.ceil(landmarks.max(0)).astype(int) + 1, (image.shape[1], image.shape[0]))
-    box = image[lo[1] : hi[1], lo[0] : hi[0]].astype(np.float32)
+    box = image[geometry.box(landmarks, image.shape)].astype(np.float32)
     if scale == 1.0:
         return box
     size = (max(int(round(box.shape[1] * scale)), 8), max(int(round(box.shape[0] * scale)), 8))
@@ -276,7 +272,7 @@ def blur_sigma(image: np.ndarray) -> float:
     >>> bool(2.5 < soft < 3.5 and sharp < soft)
     True
     """
-    luma = image @ LUMA if image.ndim == 3 else np.asarray(image, np.float32)
+    luma = raster.luma(np.asarray(image, np.float32))
 
     def gradient(im: np.ndarray) -> np.ndarray:
         return cv2.magnitude(cv2.Sobel(im, cv2.CV_32F, 1, 0), cv2.Sobel(im, cv2.CV_32F, 0, 1))
@@ -409,13 +405,11 @@ def fill_interior(
     src = np.vstack([source_landmarks[mouth], source_landmarks[inner].mean(0)])
     dst = np.vstack([final[mouth], final[inner].mean(0)])
     width = mouth_width(final, layout)
-    lo = np.maximum(np.floor(dst.min(0) - width * 0.1), 0).astype(int)
-    hi = np.minimum(np.ceil(dst.max(0) + width * 0.1), (image.shape[1], image.shape[0])).astype(int)
-    local = dst - lo
+    box = geometry.box(dst, image.shape, PATCH_MARGIN * width, closed=False)
+    local = dst - (box[1].start, box[0].start)
     triangles = Delaunay(local).simplices
-    patch = warp.warp(source, src, local, triangles, (hi[1] - lo[1], hi[0] - lo[0])).astype(np.float32)
-    polygon = np.zeros(patch.shape[:2], np.float32)
-    cv2.fillPoly(polygon, [np.round(local[len(layout.mouth_outer) : len(mouth)] * 16).astype(np.int32)], 1.0, shift=4)
+    patch = warp.warp(source, src, local, triangles, image[box].shape[:2]).astype(np.float32)
+    polygon = raster.fill_polygon(np.zeros(patch.shape[:2], np.float32), local[len(layout.mouth_outer) : len(mouth)], 1.0)
 
     gain = tone_gain(source, source_landmarks, reference, layout, patch[polygon > 0])
     patch *= gain
@@ -426,11 +420,9 @@ def fill_interior(
     # shrink by a feather before blurring, and cut at the polygon: the fade ends at the
     # lip line and never reaches the lips
     k = max(1, int(round(sigma)))
-    mask = cv2.erode(polygon, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * k + 1, 2 * k + 1)))
-    mask = cv2.GaussianBlur(mask, (0, 0), sigma) * polygon * weight
+    mask = cv2.GaussianBlur(raster.erode(polygon, k), (0, 0), sigma) * polygon * weight
 
     out = image.copy()
-    box = (slice(lo[1], hi[1]), slice(lo[0], hi[0]))
     region = out[box].astype(np.float32)
     out[box] = np.clip(region + mask[..., None] * (patch - region) + 0.5, 0, 255).astype(np.uint8)
     full = np.zeros(image.shape[:2], np.float32)

@@ -1,28 +1,34 @@
 """The E+MD pipeline (paper Fig. 5) and the other six methods of Fig. 11.
 
-Stages: landmarks -> global warping GI -> local warping LI -> elastic model (lambda_k
-by the DB metric) -> geometric warp FI -> ERI -> MD model -> F_IMG.
+Stages: landmarks -> shape stages (global warping GI, local warping LI, the elastic
+model with lambda_k by the DB metric; :data:`SHAPE_STAGES`) -> geometric warp FI ->
+details (ERI, MD model, mouth interior) -> F_IMG. What each method runs is read from its
+row of :data:`exprclone.methods.TABLE`.
 """
 
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
 
-from . import elastic, eri, geometry, global_warp, lips, local_warp, metric, muscle, warp
+from . import elastic, eri, geometry, global_warp, lips, local_warp, metric, muscle, raster, warp
 from . import mouth as mouth_fill
+from .checks import check_image, check_lambda, check_points
 from .eigenface import Eigenfaces
-from .errors import ExprCloneError
-from .landmark_files import check_points
 from .landmarks import Detector
 from .layout import DLIB68, Layout
-from .methods import METHODS
+from .methods import METHODS, SHAPES, Method, lookup
+
+#: the three photos' roles, as errors name them.
+ROLES = ("source_neutral", "source_expression", "target_neutral")
+#: the face box the ERI is computed in: the moving control points' box grown by this many inter-ocular distances.
+ERI_MARGIN = 0.5
 
 
-@dataclass
+@dataclass(frozen=True)
 class CloneResult:
     """A cloned expression and every intermediate worth looking at.
 
@@ -76,62 +82,6 @@ def default_eigenfaces() -> Eigenfaces:
     return Eigenfaces.default()
 
 
-def check_image(image: np.ndarray, name: str) -> np.ndarray:
-    """An (H, W, 3) uint8 RGB image, or ExprCloneError naming it."""
-    image = np.asarray(image)
-    if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
-        raise ExprCloneError(f"{name}: expected an (H, W, 3) uint8 RGB image, got shape {image.shape} dtype {image.dtype}")
-    return image
-
-
-def check_request(methods: tuple[str, ...], lambda_k: float | str) -> None:
-    """ExprCloneError unless every method is known and lambda_k is "auto" or a number >= 0."""
-    unknown = [m for m in methods if m not in METHODS]
-    if unknown:
-        raise ExprCloneError(f"unknown method {unknown[0]!r}; choose one of: {', '.join(METHODS)}")
-    if lambda_k != "auto" and not (isinstance(lambda_k, (int, float)) and lambda_k >= 0):
-        raise ExprCloneError(f"lambda_k must be 'auto' or a number >= 0, got {lambda_k!r}")
-
-
-def padded_box(points: np.ndarray, iod: float, shape: tuple[int, ...]) -> tuple[int, int, int, int]:
-    """``(x0, y0, x1, y1)``: the points' bounding box grown by half an inter-ocular distance, inside the image."""
-    lo = np.floor(points.min(0) - 0.5 * iod).astype(int)
-    hi = np.ceil(points.max(0) + 0.5 * iod).astype(int)
-    return max(lo[0], 0), max(lo[1], 0), min(hi[0], shape[1]), min(hi[1], shape[0])
-
-
-def ratio_image(
-    mesh: warp.Mesh,
-    dst: np.ndarray,
-    sources: tuple[np.ndarray, np.ndarray],
-    source_ctrl: list[np.ndarray],
-    shape: tuple[int, ...],
-    layout: Layout,
-) -> tuple[np.ndarray, tuple[slice, slice]]:
-    """The ERI of the source's two photos in the target's final geometry ``dst``.
-
-    The ratio is 1 off the face, so it is computed in the face's box only.
-
-    Returns
-    -------
-    eri : ndarray of shape (H, W)
-        In the target photo's frame.
-    box : tuple of slice
-        Where it may differ from 1.
-    """
-    final = dst[: mesh.n_landmarks]
-    iod = geometry.interocular(final, layout)
-    x0, y0, x1, y1 = padded_box(dst[: mesh.n_moving], iod, shape)
-    local = dst - (x0, y0)
-    # the ratio needs the luma only: one channel to warp instead of three
-    lumas = (cv2.cvtColor(img, cv2.COLOR_RGB2GRAY) for img in sources)
-    neutral, expression = (warp.warp(img, c, local, mesh.triangles, (y1 - y0, x1 - x0)) for img, c in zip(lumas, source_ctrl))
-    mask = eri.ratio_mask((y1 - y0, x1 - x0), local[: mesh.n_landmarks], local[mesh.forehead], layout)
-    out = np.ones(shape[:2], np.float32)
-    out[y0:y1, x0:x1] = eri.expression_ratio(neutral, expression, mask, iod)
-    return out, (slice(y0, y1), slice(x0, x1))
-
-
 def clone(
     source_neutral: np.ndarray,
     source_expression: np.ndarray,
@@ -154,11 +104,16 @@ def clone(
     landmarks : tuple of three (N, 2) arrays or None, optional
         Known landmarks for each photo; None entries are detected.
     **options
-        ``detector``, ``eigenfaces``, ``layout``, ``names``, ``mouth``: see :func:`clone_methods`.
+        ``detector``, ``eigenfaces``, ``layout``, ``mouth``: see :func:`clone_methods`.
 
     Returns
     -------
     CloneResult
+
+    Raises
+    ------
+    ExprCloneError
+        A bad input, its ``subject`` the photo's role (:data:`ROLES`), ``method`` or ``lambda``.
     """
     return clone_methods(source_neutral, source_expression, target_neutral, (method,), lambda_k, landmarks, **options)[method]
 
@@ -174,7 +129,6 @@ def clone_methods(
     detector: Detector | None = None,
     eigenfaces: Eigenfaces | None = None,
     layout: Layout = DLIB68,
-    names: tuple[str, str, str] = ("source_neutral", "source_expression", "target_neutral"),
     mouth: bool = True,
 ) -> dict[str, CloneResult]:
     """Several methods at once, sharing the stages they have in common (Fig. 5).
@@ -190,8 +144,6 @@ def clone_methods(
     eigenfaces : Eigenfaces, optional
         Basis of the DB metric; the packaged one by default.
     layout : Layout
-    names : tuple of str
-        How to name the three photos in error messages (their file paths).
     mouth : bool
         Fill an opened mouth with the source's mouth interior (teeth) in the methods
         with ERI (:mod:`exprclone.mouth`); False leaves the stretched lips.
@@ -200,15 +152,108 @@ def clone_methods(
     -------
     dict of str to CloneResult
     """
-    check_request(methods, lambda_k)
-    images = [check_image(im, n) for im, n in zip((source_neutral, source_expression, target_neutral), names)]
+    lookup(methods)
+    check_lambda(lambda_k)
+    images = [check_image(im, role) for im, role in zip((source_neutral, source_expression, target_neutral), ROLES)]
     given = landmarks if landmarks is not None else (None, None, None)
     detector = detector or default_detector()
     s_neu, s_exp, t_neu = (
-        detector.detect(im, n) if p is None else check_points(p, im.shape, layout.n_points, n) for im, p, n in zip(images, given, names)
+        detector.detect(im, role) if p is None else check_points(p, im.shape, layout.n_points, role)
+        for im, p, role in zip(images, given, ROLES)
     )
     cloner = Cloner(images[0], s_neu, images[2], t_neu, eigenfaces=eigenfaces, layout=layout)
     return cloner.clone_methods(images[1], s_exp, methods, lambda_k, mouth=mouth)
+
+
+@dataclass(frozen=True)
+class Expression:
+    """One source expression to clone: its photo, its landmarks (lips made valid) and the lambda_k asked for."""
+
+    image: np.ndarray
+    points: np.ndarray
+    lambda_k: float | str
+
+
+@dataclass(frozen=True)
+class Shape:
+    """What a shape stage gives: landmarks, and for the elastic model the lambda_k used and the DB curve."""
+
+    points: np.ndarray
+    lambda_k: float | None = None
+    db_curve: metric.DBCurve | None = None
+
+
+@dataclass(frozen=True)
+class Rendered:
+    """The target photo warped to one shape (FI): the image, the control points it was warped to, and how many were unfolded."""
+
+    image: np.ndarray
+    control: np.ndarray
+    unfolded: int
+
+
+def global_stage(cloner: "Cloner", expression: Expression, shapes: dict[str, Shape]) -> Shape:
+    """GI: the source's motion, similarity-aligned, on the target (:func:`global_warp.global_landmarks`)."""
+    return Shape(global_warp.global_landmarks(cloner.s_neu, expression.points, cloner.t_neu, cloner.layout))
+
+
+def local_stage(cloner: "Cloner", expression: Expression, shapes: dict[str, Shape]) -> Shape:
+    """LI: each organ of GI re-shaped to the source expression's, Eqs. (1)-(2)."""
+    return Shape(local_warp.local_landmarks(shapes["global"].points, expression.points, cloner.layout))
+
+
+def elastic_stage(cloner: "Cloner", expression: Expression, shapes: dict[str, Shape]) -> Shape:
+    """The elastic model's balance of GI and LI, Eqs. (3)-(6), lambda_k given or chosen by the DB metric, Eqs. (7)-(8)."""
+    gl, local = shapes["global"].points, shapes["local"].points
+    if expression.lambda_k != "auto":
+        chosen = float(expression.lambda_k)
+        return Shape(elastic.elastic_landmarks(gl, local, cloner.neighbours, chosen), chosen)
+    lambdas = np.array(metric.LAMBDAS)
+    candidates = list(elastic.elastic_landmarks(gl, local, cloner.neighbours, lambdas))
+    eigenfaces = cloner.eigenfaces or default_eigenfaces()
+    curve = metric.choose_lambda(
+        cloner.target_image, cloner.mesh, candidates, lambdas, expression.image, expression.points, eigenfaces, cloner.layout
+    )
+    return Shape(candidates[int(np.flatnonzero(lambdas == curve.best)[0])], curve.best, curve)
+
+
+#: the shape stages of :data:`exprclone.methods.SHAPES` by name, each computed from the ones before it.
+SHAPE_STAGES: dict[str, Callable[["Cloner", Expression, dict[str, Shape]], Shape]] = {
+    "global": global_stage,
+    "local": local_stage,
+    "elastic": elastic_stage,
+}
+
+
+def ratio_image(
+    mesh: warp.Mesh,
+    dst: np.ndarray,
+    sources: tuple[np.ndarray, np.ndarray],
+    source_ctrl: list[np.ndarray],
+    shape: tuple[int, ...],
+    layout: Layout,
+) -> tuple[np.ndarray, tuple[slice, slice]]:
+    """The ERI of the source's two photos in the target's final geometry ``dst``.
+
+    The ratio is 1 off the face, so it is computed in the face's box only.
+
+    Returns
+    -------
+    eri : ndarray of shape (H, W)
+        In the target photo's frame.
+    box : tuple of slice
+        Where it may differ from 1.
+    """
+    iod = geometry.interocular(dst[: mesh.n_landmarks], layout)
+    rows, cols = box = geometry.box(dst[: mesh.n_moving], shape, ERI_MARGIN * iod, closed=False)
+    size = (rows.stop - rows.start, cols.stop - cols.start)
+    local = dst - (cols.start, rows.start)
+    # the ratio needs the luma only: one channel to warp instead of three
+    neutral, expression = (warp.warp(raster.luma(img), c, local, mesh.triangles, size) for img, c in zip(sources, source_ctrl))
+    mask = eri.ratio_mask(size, local[: mesh.n_landmarks], local[mesh.forehead], layout)
+    out = np.ones(shape[:2], np.float32)
+    out[box] = eri.expression_ratio(neutral, expression, mask, iod)
+    return out, box
 
 
 class Cloner:
@@ -217,7 +262,8 @@ class Cloner:
     Everything that depends only on the two neutral faces (the target's mesh and its
     spring neighbours, the source's neutral photo placed on that mesh) is computed here,
     so that each expression (a photo, or a frame of a driving video) costs only the
-    stages of Fig. 5 that depend on it.
+    stages of Fig. 5 that depend on it. Inputs are taken as :mod:`exprclone.checks`
+    lets them through.
 
     Parameters
     ----------
@@ -246,8 +292,7 @@ class Cloner:
         self.eigenfaces = eigenfaces
         self.mesh = warp.build_mesh(self.t_neu, target_neutral.shape, layout)
         self.neighbours = self.mesh.neighbours()
-        rigid = list(layout.rigid)
-        self._source_neutral_ctrl = self.mesh.control_points(self.s_neu, geometry.fit_similarity(self.t_neu[rigid], self.s_neu[rigid]))
+        self._source_neutral_ctrl = self.mesh.control_points(self.s_neu, geometry.fit_rigid(self.t_neu, self.s_neu, layout))
 
     @functools.cached_property
     def mouth_reference(self) -> mouth_fill.Reference:
@@ -264,72 +309,81 @@ class Cloner:
         mouth: bool = True,
     ) -> dict[str, CloneResult]:
         """The source expression on the target face, by each of ``methods`` (see :func:`clone_methods`)."""
-        check_request(methods, lambda_k)
-        layout, mesh, tgt_img = self.layout, self.mesh, self.target_image
-        s_neu, t_neu, s_exp = self.s_neu, self.t_neu, lips.uncross(source_expression_points, layout)
+        chosen = lookup(methods)
+        expression = Expression(source_expression, lips.uncross(source_expression_points, self.layout), check_lambda(lambda_k))
+        shapes = self.shapes(expression, {m.shape for m in chosen})
+        rendered = {kind: self.render(shapes[kind].points) for kind in {m.shape for m in chosen}}
+        ratios = {kind: self.ratio(rendered[kind].control, expression) for kind in {m.shape for m in chosen if m.eri}}
+        return {m.name: self.result(m, expression, shapes, rendered[m.shape], ratios.get(m.shape), mouth) for m in chosen}
 
-        gl = global_warp.global_landmarks(s_neu, s_exp, t_neu, layout)
-        lo = local_warp.local_landmarks(gl, s_exp, layout)
-        stages = {"source_neutral": s_neu, "source_expression": s_exp, "target_neutral": t_neu, "global": gl, "local": lo}
-        kinds = {m: "elastic" if m == "e+md" else m.split("+")[0] for m in methods}
-        chosen, curve = None, None
-        if "elastic" in kinds.values():
-            if lambda_k == "auto":
-                lambdas = np.array(metric.LAMBDAS)
-                candidates = list(elastic.elastic_landmarks(gl, lo, self.neighbours, lambdas))
-                eigenfaces = self.eigenfaces or default_eigenfaces()
-                curve = metric.choose_lambda(tgt_img, mesh, candidates, lambdas, source_expression, s_exp, eigenfaces, layout)
-                chosen = curve.best
-                stages["elastic"] = candidates[int(np.flatnonzero(lambdas == chosen)[0])]
-            else:
-                chosen = float(lambda_k)
-                stages["elastic"] = elastic.elastic_landmarks(gl, lo, self.neighbours, chosen)
+    def shapes(self, expression: Expression, wanted: set[str]) -> dict[str, Shape]:
+        """The shape stages (:data:`SHAPE_STAGES`) up to the last one ``wanted``; GI and LI always."""
+        shapes: dict[str, Shape] = {}
+        for name in SHAPES:
+            if name in wanted | {"global", "local"}:
+                shapes[name] = SHAPE_STAGES[name](self, expression, shapes)
+        return shapes
 
-        # FI: the target photo warped to each geometry in use
-        geometry_of, fi = {}, {}
-        for kind in set(kinds.values()):
-            dst, n_fixed = warp.unfold(mesh.points, mesh.control_points(lips.uncross(stages[kind], layout)), mesh.triangles, mesh.n_moving)
-            geometry_of[kind] = (dst, n_fixed)
-            fi[kind] = warp.warp(tgt_img, mesh.points, dst, mesh.triangles)
+    def render(self, points: np.ndarray) -> Rendered:
+        """FI: the target photo warped to ``points`` (inner lips made valid, fold-overs relaxed)."""
+        mesh = self.mesh
+        control = mesh.control_points(lips.uncross(points, self.layout))
+        control, unfolded = warp.unfold(mesh.points, control, mesh.triangles, mesh.n_moving)
+        return Rendered(warp.warp(self.target_image, mesh.points, control, mesh.triangles), control, unfolded)
 
-        # ERI: both source photos warped to the target's final geometry (Liu et al.)
-        rigid = list(layout.rigid)
-        source_ctrl = [
-            self._source_neutral_ctrl,
-            mesh.control_points(s_exp, geometry.fit_similarity(t_neu[rigid], s_exp[rigid])),
-        ]
-        sources = (self.source_image, source_expression)
-        ratios, boxes = {}, {}
-        for kind in {kinds[m] for m in methods if m.endswith("+eri") or m == "e+md"}:
-            ratios[kind], boxes[kind] = ratio_image(mesh, geometry_of[kind][0], sources, source_ctrl, tgt_img.shape, layout)
+    def ratio(self, control: np.ndarray, expression: Expression) -> tuple[np.ndarray, tuple[slice, slice]]:
+        """The ERI: both source photos warped to the target's geometry ``control`` (Liu et al.), and the box where it is not 1."""
+        placed = self.mesh.control_points(expression.points, geometry.fit_rigid(self.t_neu, expression.points, self.layout))
+        sources = (self.source_image, expression.image)
+        return ratio_image(self.mesh, control, sources, [self._source_neutral_ctrl, placed], self.target_image.shape, self.layout)
 
-        def with_details(kind: str, importance: np.ndarray | float = 1.0) -> np.ndarray:
-            """Eq. (9) applied in the face box, where the ERI differs from 1."""
-            box = boxes[kind]
-            out = fi[kind].copy()
-            out[box] = eri.apply_details(fi[kind][box], ratios[kind][box], importance if np.isscalar(importance) else importance[box])
-            return out
+    def result(
+        self,
+        method: Method,
+        expression: Expression,
+        shapes: dict[str, Shape],
+        rendered: Rendered,
+        ratio: tuple[np.ndarray, tuple[slice, slice]] | None,
+        mouth: bool,
+    ) -> CloneResult:
+        """One method's result: FI, then its detail stages (:meth:`details`) if it has any."""
+        final = rendered.control[: self.mesh.n_landmarks]
+        landmarks = {"source_neutral": self.s_neu, "source_expression": expression.points, "target_neutral": self.t_neu}
+        landmarks.update({name: shapes[name].points for name in ("global", "local", method.shape)}, final=final)
+        image, details = (rendered.image, {}) if not method.eri else self.details(method, expression, rendered.image, final, ratio, mouth)
+        shape = shapes[method.shape]
+        return CloneResult(image, method.name, landmarks, shape.lambda_k, shape.db_curve, unfolded_points=rendered.unfolded, **details)
 
-        results = {}
-        for m in methods:
-            kind = kinds[m]
-            dst, n_fixed = geometry_of[kind]
-            lm = dict(stages, final=dst[: mesh.n_landmarks])
-            if kind != "elastic":
-                lm.pop("elastic", None)
-            r = CloneResult(
-                fi[kind], m, lm, chosen if kind == "elastic" else None, curve if kind == "elastic" else None, unfolded_points=n_fixed
+    def details(
+        self,
+        method: Method,
+        expression: Expression,
+        fi: np.ndarray,
+        final: np.ndarray,
+        ratio: tuple[np.ndarray, tuple[slice, slice]],
+        mouth: bool,
+    ) -> tuple[np.ndarray, dict]:
+        """The illumination details on FI: the ERI, weighted by the MD mask (Eqs. 9-11) for ``e+md``; then the mouth interior.
+
+        Returns
+        -------
+        image : ndarray of shape (H, W, 3), uint8
+        details : dict
+            The :class:`CloneResult` fields they fill: ``eri``, ``muscle_mask``,
+            ``muscle_strengths``, ``mouth_mask``.
+        """
+        ratio_map, box = ratio
+        details: dict = {"eri": ratio_map}
+        importance: np.ndarray | float = 1.0
+        if method.md:
+            h = muscle.strengths(self.s_neu, global_warp.remove_head_motion(self.s_neu, expression.points, self.layout), self.layout)
+            importance = muscle.importance_mask(self.target_image.shape[:2], *muscle.areas(final, self.layout), h)
+            details.update(muscle_mask=importance, muscle_strengths=h)
+        image = fi.copy()
+        image[box] = eri.apply_details(fi[box], ratio_map[box], importance if np.isscalar(importance) else importance[box])
+        if mouth:
+            reference = self.mouth_reference
+            image, details["mouth_mask"] = mouth_fill.fill_interior(
+                image, final, expression.image, expression.points, reference, self.layout
             )
-            if m == "e+md":
-                centres, radii = muscle.areas(lm["final"], layout)
-                r.muscle_strengths = muscle.strengths(s_neu, global_warp.remove_head_motion(s_neu, s_exp, layout), layout)
-                r.muscle_mask = muscle.importance_mask(tgt_img.shape[:2], centres, radii, r.muscle_strengths)
-                r.eri, r.image = ratios[kind], with_details(kind, r.muscle_mask)
-            elif m.endswith("+eri"):
-                r.eri, r.image = ratios[kind], with_details(kind)
-            if mouth and r.eri is not None:
-                r.image, r.mouth_mask = mouth_fill.fill_interior(
-                    r.image, lm["final"], source_expression, s_exp, self.mouth_reference, layout
-                )
-            results[m] = r
-        return results
+        return image, details

@@ -198,7 +198,7 @@ def track(frames: Iterable[np.ndarray], detector: Detector, name: str = "video")
         fitted.append(points)
     found = np.array([p is not None for p in fitted], bool)
     if not found.any():
-        raise ExprCloneError(f"{name}: no face found in any of its {len(fitted)} frames")
+        raise ExprCloneError(name, f"no face found in any of its {len(fitted)} frames")
     last = fitted[int(np.argmax(found))]
     held = []
     for p in fitted:

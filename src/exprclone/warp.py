@@ -156,7 +156,7 @@ def opened_mouth(points: np.ndarray, pairs: np.ndarray, first_mid: int, landmark
     """
     out = points.copy()
     down = geometry.face_axes(landmarks, layout)[1]
-    i, j = layout.mouth_outer[0], layout.mouth_outer[len(layout.mouth_outer) // 2]
+    i, j = layout.mouth_corners
     gap = 0.1 * np.linalg.norm(landmarks[j] - landmarks[i])
     for k, (upper, lower) in enumerate(pairs):
         mid = (points[upper] + points[lower]) / 2

@@ -17,7 +17,7 @@ import cv2
 import numpy as np
 from PIL import ExifTags, Image, ImageOps, UnidentifiedImageError
 
-from exprclone.errors import ExprCloneError, ExprCloneWarning
+from ..errors import ExprCloneError, ExprCloneWarning
 
 PathLike = str | os.PathLike[str]
 
@@ -64,7 +64,7 @@ def load_image(path: PathLike) -> np.ndarray:
     with image:
         width, height = image.size
         if min(width, height) < MIN_SIDE:
-            raise ExprCloneError(f"{path}: image is too small ({width}x{height} pixels; at least {MIN_SIDE} on each side needed)")
+            raise ExprCloneError(path, f"image is too small ({width}x{height} pixels; at least {MIN_SIDE} on each side needed)")
         notes = []
         if image.mode in ("RGB", "RGBA") and ";16" in rawmode:
             image.frombytes(_read_16bit_colour(path, image).tobytes())
@@ -99,16 +99,16 @@ def check_output_path(path: PathLike, inputs: Iterable[PathLike] = (), extension
     extension = os.path.splitext(path)[1].lower()
     allowed = list(_FORMATS) if extensions is None else list(extensions)
     if extension not in allowed:
-        raise ExprCloneError(f"{path}: unknown output format '{extension}' (use {' or '.join(allowed[:2])})")
+        raise ExprCloneError(path, f"unknown output format '{extension}' (use {' or '.join(allowed[:2])})")
     if any(_same_file(path, source) for source in inputs):
-        raise ExprCloneError(f"{path}: output would overwrite input file")
+        raise ExprCloneError(path, "output would overwrite input file")
     if os.path.isdir(path):
-        raise ExprCloneError(f"{path}: is a directory")
+        raise ExprCloneError(path, "is a directory")
     directory = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(directory):
-        raise ExprCloneError(f"{path}: output directory {directory} does not exist")
+        raise ExprCloneError(path, f"output directory {directory} does not exist")
     if not os.access(directory, os.W_OK | os.X_OK):
-        raise ExprCloneError(f"{path}: output directory {directory} is not writable")
+        raise ExprCloneError(path, f"output directory {directory} is not writable")
 
 
 def save_image(path: PathLike, image: np.ndarray, *, inputs: Iterable[PathLike] = ()) -> None:
@@ -128,12 +128,11 @@ def save_image(path: PathLike, image: np.ndarray, *, inputs: Iterable[PathLike] 
     ------
     ExprCloneError
         If :func:`check_output_path` rejects ``path`` or the file cannot be written.
-    ValueError
-        If ``image`` is not a uint8 array of shape (H, W, 3) or (H, W).
+        Also if ``image`` is not a uint8 array of shape (H, W, 3) or (H, W).
     """
     check_output_path(path, inputs)
     if image.dtype != np.uint8 or not (image.ndim == 2 or image.shape[2:] == (3,)):
-        raise ValueError(f"expected a uint8 (H, W, 3) or (H, W) image, got {image.dtype} {image.shape}")
+        raise ExprCloneError(path, f"expected a uint8 (H, W, 3) or (H, W) image, got {image.dtype} {image.shape}")
     image_format, options = _FORMATS[os.path.splitext(path)[1].lower()]
     atomic_write(path, lambda f: Image.fromarray(image).save(f, format=image_format, **options))
 
@@ -153,7 +152,7 @@ def atomic_write(path: PathLike, write: Callable[[IO[bytes]], object]) -> None:
     try:
         temporary = tempfile.NamedTemporaryFile(dir=directory, prefix=f".{name}.", suffix=os.path.splitext(name)[1], delete=False)
     except OSError as exc:
-        raise ExprCloneError(f"{path}: cannot be written ({exc.strerror})") from exc
+        raise ExprCloneError(path, f"cannot be written ({exc.strerror})") from exc
     try:
         with temporary:
             write(temporary)
@@ -164,14 +163,14 @@ def atomic_write(path: PathLike, write: Callable[[IO[bytes]], object]) -> None:
     except BaseException as exc:
         os.unlink(temporary.name)
         if isinstance(exc, (OSError, ValueError)):
-            raise ExprCloneError(f"{path}: cannot be written ({exc})") from exc
+            raise ExprCloneError(path, f"cannot be written ({exc})") from exc
         raise
 
 
 def _open(path: PathLike) -> tuple[Image.Image, str]:
     """Open ``path`` and decode its pixels; return the image and the raw mode it was stored in."""
     if os.path.isdir(path):
-        raise ExprCloneError(f"{path}: is a directory")
+        raise ExprCloneError(path, "is a directory")
     image = None
     try:
         image = Image.open(path)
@@ -206,7 +205,7 @@ def _read_error(path: PathLike, exc: BaseException) -> ExprCloneError:
         problem = f"cannot be read ({exc.strerror})"
     else:
         problem = f"image data is corrupt or truncated ({exc})"
-    return ExprCloneError(f"{path}: {problem}")
+    return ExprCloneError(path, problem)
 
 
 def _read_16bit_colour(path: PathLike, image: Image.Image) -> np.ndarray:
@@ -217,7 +216,7 @@ def _read_16bit_colour(path: PathLike, image: Image.Image) -> np.ndarray:
         raise _read_error(path, exc) from exc
     bands = len(image.getbands())
     if data is None or data.dtype != np.uint16 or data.shape != (image.height, image.width, bands):
-        raise ExprCloneError(f"{path}: image data is corrupt or truncated (16-bit colour)")
+        raise ExprCloneError(path, "image data is corrupt or truncated (16-bit colour)")
     rgb_order = [2, 1, 0, 3][:bands]  # OpenCV reads BGR(A)
     return _scale_to_uint8(data[..., rgb_order], 65535)
 

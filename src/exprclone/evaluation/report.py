@@ -2,12 +2,12 @@
 
 For an ordered pair (A, B) of different people, A's neutral-to-smile change is cloned
 onto B's neutral photo by every method, and each result is scored against B's own real
-smile (:mod:`exprclone.evaluation`). Two references share the table: ``no change`` (B's
+smile (:mod:`exprclone.evaluation.scores`). Two references share the table: ``no change`` (B's
 neutral photo taken as the result: the floor) and ``real`` (B's real smile: the
 ceiling, zero landmark error by construction, its identity distance the natural one).
 
 Every row also says how much tooth shows in its image and in A's real smile
-(:func:`exprclone.evaluation.teeth`): of the pairs whose source shows teeth, the
+(:func:`exprclone.evaluation.scores.teeth`): of the pairs whose source shows teeth, the
 summary gives the share of results that show teeth too, and of the others, the share
 that shows teeth where the source showed none.
 
@@ -23,27 +23,29 @@ import contextlib
 import csv
 import functools
 import multiprocessing
-import os
-import sys
+import time
 import warnings
-from dataclasses import dataclass
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
-from . import geometry, global_warp
-from .errors import ExprCloneError
-from .evaluation import SAME_PERSON, TEETH_SHOWN, FaceDescriptor, identity_distance, landmark_error, teeth
-from .images import load_image, save_image
-from .layout import DLIB68
-from .mouth import mouth_width
-from .pipeline import clone_methods, default_detector
-from .progress import Bar
+from .. import geometry, global_warp
+from ..errors import ExprCloneError, naming
+from ..io.images import load_image, save_image
+from ..layout import DLIB68
+from ..mouth import mouth_width
+from ..pipeline import clone_methods, default_detector
+from .london import Dataset
+from .scores import SAME_PERSON, TEETH_SHOWN, FaceDescriptor, identity_distance, landmark_error, teeth
 
 #: relative widening of the mouth (corner distance / eye-corner distance) that makes a
 #: strong smile: the top 29% of the London Set's 72 people (median 15%, quartiles 11% and 22%).
 STRONG_SMILE = 0.20
 REFERENCES = ("no change", "real")
+#: photos kept in memory per process (5.5 MB each at 1350 px): pairs come sorted by source,
+#: so a source's two photos are read once for all its targets.
+PHOTO_CACHE = 8
 FIELDS = (
     "source",
     "target",
@@ -60,39 +62,9 @@ FIELDS = (
 )
 
 
-@dataclass(frozen=True)
-class Dataset:
-    """The photos of a London-Set-like folder: ``neutral_front/ID_03.jpg`` and ``smiling_front/ID_08.jpg``."""
-
-    root: Path
-    ids: tuple[str, ...]
-
-    @classmethod
-    def open(cls, root: str | os.PathLike) -> "Dataset":
-        root = Path(root)
-        ids = tuple(
-            sorted(
-                p.name[:3] for p in (root / "neutral_front").glob("*_03.jpg") if (root / "smiling_front" / f"{p.name[:3]}_08.jpg").is_file()
-            )
-        )
-        if len(ids) < 2:
-            raise ExprCloneError(f"{root}: needs neutral_front/ID_03.jpg and smiling_front/ID_08.jpg for at least two people")
-        return cls(root, ids)
-
-    def path(self, face_id: str, smiling: bool) -> str:
-        return str(self.root / ("smiling_front" if smiling else "neutral_front") / f"{face_id}_{'08' if smiling else '03'}.jpg")
-
-    def pairs(self, n: int, seed: int) -> list[tuple[str, str]]:
-        """``n`` ordered pairs of different people drawn with a fixed seed (0: all of them)."""
-        every = [(a, b) for a in self.ids for b in self.ids if a != b]
-        if n <= 0 or n >= len(every):
-            return every
-        pick = np.random.default_rng(seed).choice(len(every), n, replace=False)
-        return [every[i] for i in sorted(pick)]
-
-
-@functools.cache
+@functools.lru_cache(maxsize=PHOTO_CACHE)
 def _photo(path: str) -> np.ndarray:
+    """A photo, read once while it is among the last :data:`PHOTO_CACHE` used (pairs come sorted by source)."""
     return load_image(path)
 
 
@@ -113,9 +85,8 @@ def _clone(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landm
     sn, se, tn = data.path(pair[0], False), data.path(pair[0], True), data.path(pair[1], False)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return clone_methods(
-            _photo(sn), _photo(se), _photo(tn), methods, landmarks=(landmarks[sn], landmarks[se], landmarks[tn]), names=(sn, se, tn)
-        )
+        with naming({"source_neutral": sn, "source_expression": se, "target_neutral": tn}):
+            return clone_methods(_photo(sn), _photo(se), _photo(tn), methods, landmarks=(landmarks[sn], landmarks[se], landmarks[tn]))
 
 
 def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict) -> list[dict]:
@@ -164,10 +135,24 @@ def _score(args):
     return score_pair(*args)
 
 
+class Quiet:
+    """A progress display that shows nothing (see :func:`run`)."""
+
+    def __init__(self, total: int, what: str) -> None:
+        pass
+
+    def update(self, done: int, note: str = "") -> None:
+        pass
+
+
 def run(
-    data: Dataset, pairs: list[tuple[str, str]], methods: tuple[str, ...], jobs: int = 1, progress=sys.stderr
+    data: Dataset, pairs: list[tuple[str, str]], methods: tuple[str, ...], jobs: int = 1, progress: Callable = Quiet
 ) -> tuple[list[dict], dict]:
-    """Score every pair (in ``jobs`` processes), with a progress bar on ``progress``.
+    """Score every pair (in ``jobs`` processes).
+
+    ``progress(total, what)`` makes a display of how many of ``total``
+    things are done, with a method ``update(done, note)`` (as
+    :class:`exprclone.cli.progress.Bar`): one for the photos' landmarks, one for the pairs.
 
     Returns
     -------
@@ -179,17 +164,17 @@ def run(
     people = sorted({p for pair in pairs for p in pair})
     paths = [data.path(p, s) for p in people for s in (False, True)]
     landmarks = {}
-    bar = Bar(progress, len(paths), "landmarks")
+    bar = progress(len(paths), "landmarks")
     for k, path in enumerate(paths, 1):
         landmarks[path] = default_detector().detect(_photo(path), path)
         bar.update(k)
     rows = []
     tasks = [(data, pair, methods, landmarks) for pair in pairs]
-    bar = Bar(progress, len(pairs), "pairs")
+    bar, start = progress(len(pairs), "pairs"), time.perf_counter()
     with multiprocessing.get_context("fork").Pool(jobs) if jobs > 1 else contextlib.nullcontext() as pool:
         for k, pair_rows in enumerate(pool.imap(_score, tasks) if pool else map(_score, tasks), 1):
             rows += pair_rows
-            bar.update(k, f"{bar.elapsed / k:.1f} s each")
+            bar.update(k, f"{(time.perf_counter() - start) / k:.1f} s each")
     return rows, landmarks
 
 

@@ -1,4 +1,4 @@
-"""``exprclone compare``: the paper's Figs. 11-13 and the DB curve as one labelled sheet.
+"""The paper's Figs. 11-13 and the DB curve as one labelled sheet (``exprclone compare``).
 
 Row 1 (Fig. 11): the seven methods (a)-(g) and the source expression (h).
 Row 2 (Fig. 12): the differences of (b)-(g) to the global result (a).
@@ -14,9 +14,10 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from .methods import METHODS
-from .metric import DBCurve
-from .pipeline import CloneResult
+from .. import raster
+from ..methods import METHODS, TABLE
+from ..metric import DBCurve
+from ..pipeline import CloneResult
 
 CELL = 320
 FIG13 = (
@@ -40,7 +41,7 @@ def face_box(landmarks: np.ndarray, shape: tuple[int, ...]) -> tuple[slice, slic
 
 def difference(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Absolute luminance difference of two RGB images, normalised to 0-255, as RGB."""
-    d = np.abs(cv2.cvtColor(a, cv2.COLOR_RGB2GRAY).astype(np.float32) - cv2.cvtColor(b, cv2.COLOR_RGB2GRAY))
+    d = np.abs(raster.luma(a).astype(np.float32) - raster.luma(b))
     d = (255 * d / max(float(d.max()), 1e-6)).astype(np.uint8)
     return cv2.cvtColor(d, cv2.COLOR_GRAY2RGB)
 
@@ -85,7 +86,7 @@ def sheet(results: dict[str, CloneResult], source_expression: np.ndarray) -> np.
         All seven methods (:func:`exprclone.clone_methods`).
     source_expression : ndarray of shape (H, W, 3)
     """
-    letters = dict(zip(METHODS, "abcdefg"))
+    letters = {m.name: m.panel for m in TABLE}
     lm = results["global"].landmarks
     box = face_box(lm["target_neutral"], results["global"].image.shape)
     src_box = face_box(lm["source_expression"], source_expression.shape)

@@ -27,8 +27,8 @@ import av
 import numpy as np
 from av.video.reformatter import ColorRange, Colorspace
 
-from exprclone.errors import ExprCloneError
-from exprclone.images import PathLike, atomic_write, check_output_path
+from ..errors import ExprCloneError
+from .images import PathLike, atomic_write, check_output_path
 
 CRF = 18
 """x264 constant rate factor: 18 is close to visually lossless; each +6 halves the size."""
@@ -164,7 +164,7 @@ def write_video(
     that it keeps its timing relative to that video's first frame, and cut to the duration of the
     new video, so that frames taken from ``audio_from`` play in sync with their sound.
 
-    The file is written through :func:`~exprclone.images.atomic_write`: if ``frames`` raises (or
+    The file is written through :func:`~exprclone.io.images.atomic_write`: if ``frames`` raises (or
     the user interrupts), or encoding fails, nothing is left at ``path`` and no temporary file
     stays behind.
 
@@ -189,23 +189,21 @@ def write_video(
     Raises
     ------
     ExprCloneError
-        If :func:`~exprclone.images.check_output_path` rejects ``path`` (checked before any frame
+        If :func:`~exprclone.io.images.check_output_path` rejects ``path`` (checked before any frame
         is asked for), ``audio_from`` is not a readable video, ``frames`` is empty, or the file
-        cannot be written.
-    ValueError
-        If ``fps`` is not positive, or a frame is not a uint8 (H, W, 3) array of the first
-        frame's size.
+        cannot be written; also if ``fps`` is not positive, or a frame is not a uint8
+        (H, W, 3) array of the first frame's size.
     """
     sources = [*inputs, audio_from] if audio_from is not None else list(inputs)
     check_output_path(path, sources, extensions=_MUXERS)
     fps = Fraction(fps)
     if fps <= 0:
-        raise ValueError(f"fps must be positive, got {fps}")
+        raise ExprCloneError("fps", f"must be positive, got {fps}")
     sound = audio_from is not None and probe(audio_from).has_audio
     iterator = iter(frames)
     first = next(iterator, None)
     if first is None:
-        raise ExprCloneError(f"{path}: no frames to write")
+        raise ExprCloneError(path, "no frames to write")
     shape = _check_frame(first)
     muxer, options = _MUXERS[os.path.splitext(path)[1].lower()]
     count = 0
@@ -217,7 +215,7 @@ def write_video(
             with av.open(file, "w", format=muxer, options=options) as output:
                 count = _encode(output, shape, checked, fps, audio_from if sound else None)
         except av.FFmpegError as exc:
-            raise ExprCloneError(f"{path}: cannot be written ({exc})") from exc
+            raise ExprCloneError(path, f"cannot be written ({exc})") from exc
 
     try:
         atomic_write(path, write)
@@ -231,7 +229,7 @@ def write_video(
 class _FrameError(Exception):
     """Carries an error raised by the frames, or by checking one, through ``atomic_write``.
 
-    ``atomic_write`` removes its temporary file on any error, and would report a ValueError or
+    ``atomic_write`` removes its temporary file on any error, and would report a ValueError (an ExprCloneError too) or
     OSError as "cannot be written"; :func:`write_video` re-raises the carried error instead.
     """
 
@@ -251,12 +249,12 @@ def _checked(frames: Iterator[np.ndarray], shape: tuple[int, ...]) -> Iterator[n
 
 
 def _check_frame(frame: object, shape: tuple[int, ...] | None = None) -> tuple[int, ...]:
-    """Raise ValueError unless ``frame`` is a uint8 (H, W, 3) array (of ``shape`` if given); return its shape."""
+    """Raise ExprCloneError unless ``frame`` is a uint8 (H, W, 3) array (of ``shape`` if given); return its shape."""
     if not isinstance(frame, np.ndarray) or frame.dtype != np.uint8 or frame.ndim != 3 or frame.shape[2] != 3:
         described = f"{frame.dtype} array of shape {frame.shape}" if isinstance(frame, np.ndarray) else type(frame).__name__
-        raise ValueError(f"expected a uint8 (H, W, 3) frame, got {described}")
+        raise ExprCloneError("frame", f"expected a uint8 (H, W, 3) frame, got {described}")
     if shape is not None and frame.shape != shape:
-        raise ValueError(f"all frames must have one size: expected {shape}, got {frame.shape}")
+        raise ExprCloneError("frame", f"all frames must have one size: expected {shape}, got {frame.shape}")
     return frame.shape
 
 
@@ -340,7 +338,7 @@ class _Soundtrack:
         try:
             decoded = next(self.decoded, None)
         except av.FFmpegError as exc:
-            raise ExprCloneError(f"{self.path}: audio data is corrupt ({exc.strerror})") from exc
+            raise ExprCloneError(self.path, f"audio data is corrupt ({exc.strerror})") from exc
         if self.to_skip is None and decoded is not None and decoded.pts is not None:
             lead = round((decoded.pts * decoded.time_base - self.start) * self.rate)
             if lead > 0:
@@ -371,21 +369,21 @@ def _even(frame: np.ndarray) -> np.ndarray:
 def _open_input(path: PathLike) -> av.container.InputContainer:
     """Open ``path`` for reading and check that it is a video with a video stream."""
     if os.path.isdir(path):
-        raise ExprCloneError(f"{path}: is a directory")
+        raise ExprCloneError(path, "is a directory")
     try:
         container = av.open(os.fspath(path))
     except FileNotFoundError as exc:
-        raise ExprCloneError(f"{path}: no such file") from exc
+        raise ExprCloneError(path, "no such file") from exc
     except PermissionError as exc:
-        raise ExprCloneError(f"{path}: cannot be read (permission denied)") from exc
+        raise ExprCloneError(path, "cannot be read (permission denied)") from exc
     except av.FFmpegError as exc:
-        raise ExprCloneError(f"{path}: not a video, or damaged ({exc.strerror})") from exc
+        raise ExprCloneError(path, f"not a video, or damaged ({exc.strerror})") from exc
     if container.format.name in _STILL_IMAGE_FORMATS or container.format.name.endswith("_pipe"):
         container.close()
-        raise ExprCloneError(f"{path}: is a still image, not a video")
+        raise ExprCloneError(path, "is a still image, not a video")
     if not container.streams.video:
         container.close()
-        raise ExprCloneError(f"{path}: has no video stream")
+        raise ExprCloneError(path, "has no video stream")
     return container
 
 
@@ -404,14 +402,14 @@ def _decode(path: PathLike, container: av.container.InputContainer) -> Iterator[
                 # to_ndarray returns a view of FFmpeg's row-padded buffer: give a C-contiguous copy of its own
                 yield np.ascontiguousarray(rgb)
         except av.FFmpegError as exc:
-            raise ExprCloneError(f"{path}: video data is corrupt ({exc.strerror})") from exc
+            raise ExprCloneError(path, f"video data is corrupt ({exc.strerror})") from exc
 
 
 def _frame_rate(path: PathLike, stream: av.video.stream.VideoStream) -> Fraction:
     """The frame rate of ``stream``: average, else guessed, else base rate."""
     fps = stream.average_rate or stream.guessed_rate or stream.base_rate
     if not fps:
-        raise ExprCloneError(f"{path}: video has no frame rate")
+        raise ExprCloneError(path, "video has no frame rate")
     return Fraction(fps)
 
 

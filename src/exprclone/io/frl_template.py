@@ -25,6 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import ExprCloneError
+
 #: for each of the 68 points: ((template index, weight), ...), weights summing to 1.
 FRL189_TO_DLIB68 = (
     ((109, 1.0),),  # 0
@@ -124,10 +126,10 @@ def frl_to_68(points189: np.ndarray) -> np.ndarray:
 
     Raises
     ------
-    ValueError
+    ExprCloneError
         If ``points189`` is not of shape (189, 2).
     """
     points189 = np.asarray(points189, dtype=np.float64)
     if points189.shape != (189, 2):
-        raise ValueError(f"expected template points of shape (189, 2), got {points189.shape}")
+        raise ExprCloneError("template", f"expected points of shape (189, 2), got {points189.shape}")
     return _WEIGHTS @ points189

@@ -7,7 +7,8 @@ import os
 
 import numpy as np
 
-from .errors import ExprCloneError
+from ..checks import check_finite, check_points
+from ..errors import ExprCloneError
 from .frl_template import frl_to_68
 from .images import atomic_write
 
@@ -40,12 +41,12 @@ def read_tem(path: str | os.PathLike) -> np.ndarray:
     lines = _read_text(path).splitlines()
     header = lines[0].strip() if lines else ""
     if not header.isdigit():
-        raise ExprCloneError(f"{path}: not a .tem template (the first line must be the point count, got {header!r})")
+        raise ExprCloneError(path, f"not a .tem template (the first line must be the point count, got {header!r})")
     count = int(header)
     if count != TEM_POINTS:
-        raise ExprCloneError(f"{path}: {count} template points, expected the {TEM_POINTS}-point Face Research Lab template")
+        raise ExprCloneError(path, f"{count} template points, expected the {TEM_POINTS}-point Face Research Lab template")
     if len(lines) <= count:
-        raise ExprCloneError(f"{path}: not a .tem template (found {len(lines) - 1} point lines, expected {count})")
+        raise ExprCloneError(path, f"not a .tem template (found {len(lines) - 1} point lines, expected {count})")
     points = np.empty((count, 2))
     for k in range(count):
         fields = lines[1 + k].split()
@@ -54,8 +55,8 @@ def read_tem(path: str | os.PathLike) -> np.ndarray:
                 raise ValueError
             points[k] = [float(fields[0]), float(fields[1])]
         except ValueError:
-            raise ExprCloneError(f"{path}: not a .tem template (line {k + 2} should be 'x y', got {lines[1 + k]!r})") from None
-    _check_finite(points, str(path))
+            raise ExprCloneError(path, f"not a .tem template (line {k + 2} should be 'x y', got {lines[1 + k]!r})") from None
+    check_finite(points, str(path))
     return points
 
 
@@ -64,7 +65,7 @@ def read_landmarks(path: str | os.PathLike, image_shape: tuple[int, ...], n_poin
 
     JSON holds ``{"landmarks": [[x, y], ...]}`` (what :func:`write_landmarks` writes) or a
     plain list of ``[x, y]`` pairs. A ``.tem`` must be a 189-point Face Research Lab
-    template; it is mapped to the 68-point layout by :func:`exprclone.frl_template.frl_to_68`.
+    template; it is mapped to the 68-point layout by :func:`exprclone.io.frl_template.frl_to_68`.
 
     Parameters
     ----------
@@ -93,45 +94,8 @@ def read_landmarks(path: str | os.PathLike, image_shape: tuple[int, ...], n_poin
     elif extension == ".json":
         points = _read_json_points(path)
     else:
-        raise ExprCloneError(f"{path}: unknown landmark file type {extension!r} (use .json or .tem)")
+        raise ExprCloneError(path, f"unknown landmark file type {extension!r} (use .json or .tem)")
     return check_points(points, image_shape, n_points, str(path))
-
-
-def check_points(points: np.ndarray, image_shape: tuple[int, ...], n_points: int, name: str) -> np.ndarray:
-    """Landmarks checked for count, finiteness and position inside the image.
-
-    Parameters
-    ----------
-    points : array_like of shape (n_points, 2)
-        Landmarks (x, y) in pixels.
-    image_shape : tuple of int
-        Shape ``(H, W, ...)`` of the photo; points must lie in ``[0, W - 1] x [0, H - 1]``.
-    n_points : int
-        Number of landmarks expected.
-    name : str
-        How to name the landmarks' source in messages (a file path).
-
-    Returns
-    -------
-    ndarray of shape (n_points, 2), float64
-
-    Raises
-    ------
-    ExprCloneError
-        Wrong shape or count, a NaN or infinite value, or a point outside the image.
-    """
-    points = np.asarray(points, dtype=np.float64)
-    if points.ndim != 2 or points.shape[1] != 2 or len(points) != n_points:
-        found = f"{len(points)} landmarks" if points.ndim == 2 and points.shape[1] == 2 else f"an array of shape {points.shape}"
-        raise ExprCloneError(f"{name}: found {found}, expected {n_points} (x, y) pairs")
-    _check_finite(points, name)
-    h, w = image_shape[:2]
-    outside = (points[:, 0] < 0) | (points[:, 0] > w - 1) | (points[:, 1] < 0) | (points[:, 1] > h - 1)
-    if outside.any():
-        i = int(np.flatnonzero(outside)[0])
-        x, y = points[i]
-        raise ExprCloneError(f"{name}: landmark {i} at ({x:g}, {y:g}) is outside the {w}x{h} image")
-    return points
 
 
 def write_landmarks(path: str | os.PathLike, landmarks: np.ndarray) -> None:
@@ -149,14 +113,14 @@ def write_landmarks(path: str | os.PathLike, landmarks: np.ndarray) -> None:
 
     Raises
     ------
-    ValueError
+    ExprCloneError
         If ``landmarks`` is not an (N, 2) array of finite numbers.
     ExprCloneError
         If the file cannot be written.
     """
     landmarks = np.asarray(landmarks, dtype=np.float64)
     if landmarks.ndim != 2 or landmarks.shape[1] != 2 or not np.isfinite(landmarks).all():
-        raise ValueError(f"expected finite landmarks of shape (N, 2), got shape {landmarks.shape}")
+        raise ExprCloneError("landmarks", f"expected finite landmarks of shape (N, 2), got shape {landmarks.shape}")
     text = json.dumps({"landmarks": landmarks.tolist()}).encode()
     atomic_write(path, lambda f: f.write(text))
 
@@ -166,11 +130,11 @@ def _read_json_points(path: str | os.PathLike) -> np.ndarray:
     try:
         data = json.loads(_read_text(path))
     except json.JSONDecodeError as e:
-        raise ExprCloneError(f"{path}: invalid JSON ({e.msg} at line {e.lineno}, column {e.colno})") from None
+        raise ExprCloneError(path, f"invalid JSON ({e.msg} at line {e.lineno}, column {e.colno})") from None
     if isinstance(data, dict):
         data = data.get("landmarks")
     if not isinstance(data, list) or not all(isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in data):
-        raise ExprCloneError(f'{path}: expected a list of [x, y] pairs or {{"landmarks": [[x, y], ...]}}')
+        raise ExprCloneError(path, 'expected a list of [x, y] pairs or {"landmarks": [[x, y], ...]}')
     return np.array(data, dtype=np.float64).reshape(-1, 2)
 
 
@@ -179,25 +143,16 @@ def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def _check_finite(points: np.ndarray, name: str) -> None:
-    """Raise ExprCloneError naming the first point with a NaN or infinite coordinate."""
-    bad = ~np.isfinite(points).all(axis=1)
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        x, y = points[i]
-        raise ExprCloneError(f"{name}: point {i} has a non-finite coordinate ({x:g}, {y:g})")
-
-
 def _read_text(path: str | os.PathLike) -> str:
     """The file's text, or ExprCloneError naming the file."""
     try:
         with open(path, encoding="utf-8-sig") as f:
             return f.read()
     except FileNotFoundError:
-        raise ExprCloneError(f"{path}: no such file") from None
+        raise ExprCloneError(path, "no such file") from None
     except IsADirectoryError:
-        raise ExprCloneError(f"{path}: is a directory") from None
+        raise ExprCloneError(path, "is a directory") from None
     except OSError as e:
-        raise ExprCloneError(f"{path}: cannot be read ({e.strerror})") from None
+        raise ExprCloneError(path, f"cannot be read ({e.strerror})") from None
     except UnicodeDecodeError:
-        raise ExprCloneError(f"{path}: not a text file (not UTF-8)") from None
+        raise ExprCloneError(path, "not a text file (not UTF-8)") from None

@@ -18,10 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import geometry
-from .landmarks import model_path
-from .layout import Layout
-from .mouth import interior, mouth_width
+from .. import geometry
+from ..landmarks import model_path
+from ..layout import Layout
+from ..mouth import interior, mouth_width
 
 #: dlib's threshold: descriptors closer than this are the same person.
 SAME_PERSON = 0.6

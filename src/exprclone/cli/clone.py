@@ -1,0 +1,55 @@
+"""``exprclone clone``: the source's expression on the target's face, as an image (and a JSON record)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from ..errors import naming
+from .inputs import add_inputs, load_inputs
+
+
+def add_parser(sub) -> None:
+    from ..methods import METHODS
+
+    c = sub.add_parser("clone", help="put the source's expression on the target's face")
+    add_inputs(c)
+    c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
+    c.add_argument("--method", choices=METHODS, default="e+md", help="method of the paper's Fig. 11 (default: e+md)")
+    c.add_argument("--save-json", metavar="OUT.json", help="write the landmarks of every stage, lambda_k and the DB curve")
+
+
+def result_json(result, inputs: dict[str, str]) -> dict:
+    """The JSON record of a clone: inputs (role to name), method, lambda_k, DB curve, landmarks of each stage."""
+    curve = result.db_curve
+    number = lambda v: None if v is None else (v if v != float("inf") else "inf")  # noqa: E731
+    return {
+        "inputs": dict(inputs),
+        "method": result.method,
+        "lambda_k": number(result.lambda_k),
+        "db_curve": None
+        if curve is None
+        else [{"lambda_k": number(float(lam)), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],
+        "muscle_strengths": None if result.muscle_strengths is None else [float(h) for h in result.muscle_strengths],
+        "unfolded_points": result.unfolded_points,
+        "landmarks": {k: v.round(3).tolist() for k, v in result.landmarks.items()},
+    }
+
+
+def run(args: argparse.Namespace) -> None:
+    from ..io.images import atomic_write, check_output_path, save_image
+    from ..pipeline import clone
+
+    paths = [args.source_neutral, args.source_expression, args.target_neutral]
+    check_output_path(args.output, paths)
+    if args.save_json:
+        check_output_path(args.save_json, paths + [args.output], extensions=[".json"])
+    names, images, options = load_inputs(args)
+    with naming(names):
+        result = clone(*images, method=args.method, **options)
+    save_image(args.output, result.image, inputs=paths)
+    if args.save_json:
+        record = json.dumps(result_json(result, names), indent=1).encode()
+        atomic_write(args.save_json, lambda f: f.write(record))
+    extra = "" if result.lambda_k is None else f", lambda_k={result.lambda_k:g}"
+    print(f"{args.output}: {args.method}{extra}")

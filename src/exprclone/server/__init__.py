@@ -1,0 +1,1 @@
+"""The web page, the HTTP API and live mode (``exprclone serve``): to come."""
