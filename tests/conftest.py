@@ -1,8 +1,11 @@
 """Shared fixtures: the real sample photos and clips of ../shared/data, and the photos' landmarks.
 
-The data folder is taken from EXPRCLONE_DATA, else ../shared/data beside the checkout.
+The data folder is taken from EXPRCLONE_DATA, else ../shared/data beside the checkout. The
+tests of pure geometry need no photo: they use the landmarks of a few photos, shipped in
+``tests/data/landmarks.json``.
 """
 
+import json
 import os
 from pathlib import Path
 
@@ -15,6 +18,7 @@ from exprclone.pipeline import default_detector
 DATA = Path(os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
 LONDON = DATA / "london"
 GRID = DATA / "grid"
+SHIPPED = json.loads((Path(__file__).parent / "data" / "landmarks.json").read_text())
 
 
 def neutral_path(face_id: str) -> Path:
@@ -61,3 +65,15 @@ def pair(photo):
     """A real cross-person triple: source 001 (neutral, smile) onto target 003."""
     (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("001"), photo("001", "smile"), photo("003")
     return (sn, se, tn), (sn_lm, se_lm, tn_lm)
+
+
+@pytest.fixture(scope="session")
+def points():
+    """Shipped landmarks of a London photo (no photo, no dlib): points(face_id, 'neutral'|'smile') -> (68, 2) float."""
+    return lambda face_id, kind="neutral": np.array(SHIPPED["faces"][f"{face_id}_{kind}"], float)
+
+
+@pytest.fixture(scope="session")
+def pair_points(points):
+    """The landmarks of :func:`pair`'s photos (source 001 neutral and smile, target 003), and the photos' shape."""
+    return (points("001"), points("001", "smile"), points("003")), tuple(SHIPPED["shape"])

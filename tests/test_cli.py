@@ -149,3 +149,12 @@ def test_start_up_stays_lean():
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert p.returncode == 0 and p.stdout.strip() == "[]", p.stdout + p.stderr
     assert callable(__import__("exprclone").clone)  # the pipeline is there when asked for
+
+
+def test_the_core_loads_no_outer_layer():
+    """The method (pipeline, drive) imports neither file formats (Pillow, PyAV) nor the server's or batch's libraries."""
+    outer = "{'PIL', 'av', 'fastapi', 'uvicorn', 'dask', 'distributed', 'exprclone.io', 'exprclone.cli', 'exprclone.server'}"
+    loaded = "{'.'.join(m.split('.')[:2]) if m.startswith('exprclone') else m.split('.')[0] for m in sys.modules}"
+    code = f"import sys, exprclone.pipeline, exprclone.drive; print(sorted({outer} & {loaded}))"
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert p.returncode == 0 and p.stdout.strip() == "[]", p.stdout + p.stderr

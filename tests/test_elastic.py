@@ -6,9 +6,9 @@ from exprclone.layout import DLIB68
 
 
 @pytest.fixture(scope="module")
-def springs(pair):
-    (_, _, target), (sn, se, tn) = pair
-    mesh = warp.build_mesh(tn, target.shape, DLIB68)
+def springs(pair_points):
+    (sn, se, tn), shape = pair_points
+    mesh = warp.build_mesh(tn, shape, DLIB68)
     gl = global_warp.global_landmarks(sn, se, tn, DLIB68)
     return gl, local_warp.local_landmarks(gl, se, DLIB68), mesh.neighbours()
 

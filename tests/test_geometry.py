@@ -9,15 +9,15 @@ def similarity(angle, scale, shift):
     return np.array([[c, -s, shift[0]], [s, c, shift[1]]])
 
 
-def test_fit_similarity_recovers_a_known_transform(pair):
-    _, (landmarks, _, _) = pair
+def test_fit_similarity_recovers_a_known_transform(pair_points):
+    (landmarks, _, _), _ = pair_points
     t = similarity(0.3, 1.7, (12.0, -40.0))
     fitted = geometry.fit_similarity(landmarks, geometry.apply(t, landmarks))
     assert np.allclose(fitted, t, atol=1e-9)
 
 
-def test_face_axes_follow_a_tilted_head(pair):
-    _, (landmarks, _, _) = pair
+def test_face_axes_follow_a_tilted_head(pair_points):
+    (landmarks, _, _), _ = pair_points
     tilted = geometry.apply(similarity(0.4, 1.0, (0, 0)), landmarks)
     axes0, axes1 = geometry.face_axes(landmarks, DLIB68), geometry.face_axes(tilted, DLIB68)
     # face-frame coordinates of the points do not change when the head turns

@@ -61,3 +61,9 @@ def test_strided_image_reads_as_its_pixels(photo, detector):
     assert not view.flags["C_CONTIGUOUS"]
     assert detector.faces(view) == detector.faces(small)
     assert np.array_equal(detector.detect(view), detector.detect(small))
+
+
+@pytest.mark.parametrize("face", ["001_neutral", "001_smile", "003_neutral", "100_neutral", "126_smile"])
+def test_the_landmarks_shipped_for_the_geometry_tests_are_what_detection_gives(photo, points, face):
+    face_id, kind = face.split("_")
+    assert np.array_equal(photo(face_id, kind)[1], points(face_id, kind))

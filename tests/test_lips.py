@@ -40,8 +40,8 @@ def self_intersecting(polygon):
     return False
 
 
-def test_crossed_inner_lips_close_and_open_ones_stay(pair):
-    _, (_, se, tn) = pair
+def test_crossed_inner_lips_close_and_open_ones_stay(pair_points):
+    (_, se, tn), _ = pair_points
     crossed = tn.copy()
     crossed[[61, 62, 63], 1] += 3
     crossed[[67, 66, 65], 1] -= 3
@@ -55,8 +55,8 @@ def test_crossed_inner_lips_close_and_open_ones_stay(pair):
     assert np.array_equal(lips.uncross(opened, DLIB68), opened)
 
 
-def test_inner_lips_above_or_below_the_outer_lips_move_onto_them(pair):
-    _, (_, se, tn) = pair
+def test_inner_lips_above_or_below_the_outer_lips_move_onto_them(pair_points):
+    (_, se, tn), _ = pair_points
     wild = tn.copy()
     wild[62, 1] = tn[51, 1] - 6  # upper inner lip above the upper outer lip
     wild[66, 1] = tn[57, 1] + 4  # lower inner lip below the lower outer lip
@@ -69,16 +69,16 @@ def test_inner_lips_above_or_below_the_outer_lips_move_onto_them(pair):
 
 
 @pytest.mark.parametrize("face", [("001", "neutral"), ("001", "smile"), ("003", "neutral"), ("100", "neutral"), ("126", "smile")])
-def test_real_inner_lips_end_inside_and_fitted_ones_inside_stay(photo, face):
-    _, landmarks = photo(*face)
+def test_real_inner_lips_end_inside_and_fitted_ones_inside_stay(points, face):
+    landmarks = points(*face)
     assert farthest_outside(lips.uncross(landmarks, DLIB68)) < 1e-3
     # the fitter put these inside already: pulling in leaves them exactly as they were
     assert farthest_outside(landmarks) < 1e-3
     assert np.array_equal(lips.inside_outer_lips(landmarks, DLIB68), landmarks)
 
 
-def test_inner_mouth_corners_outside_are_pulled_just_onto_the_outer_corners(pair):
-    _, (_, _, tn) = pair
+def test_inner_mouth_corners_outside_are_pulled_just_onto_the_outer_corners(pair_points):
+    (_, _, tn), _ = pair_points
     right = (tn[54] - tn[48]) / np.linalg.norm(tn[54] - tn[48])
     wild = tn.copy()
     wild[60] = tn[48] - 0.1 * mouth_width(tn, DLIB68) * right
@@ -92,8 +92,8 @@ def test_inner_mouth_corners_outside_are_pulled_just_onto_the_outer_corners(pair
     assert np.array_equal(fixed[others], wild[others])
 
 
-def test_inflated_inner_lips_come_back_inside_without_crossing(pair):
-    _, (_, se, tn) = pair
+def test_inflated_inner_lips_come_back_inside_without_crossing(pair_points):
+    (_, se, tn), _ = pair_points
     for landmarks in (se, tn):
         centre = landmarks[OUTER].mean(0)
         wild = landmarks.copy()
@@ -104,8 +104,8 @@ def test_inflated_inner_lips_come_back_inside_without_crossing(pair):
         assert np.array_equal(np.delete(fixed, INNER, axis=0), np.delete(wild, INNER, axis=0))
 
 
-def test_randomly_thrown_inner_lips_always_end_inside(pair):
-    _, (_, se, tn) = pair
+def test_randomly_thrown_inner_lips_always_end_inside(pair_points):
+    (_, se, tn), _ = pair_points
     rng = np.random.default_rng(7)
     for k in range(40):
         wild = (se, tn)[k % 2].copy()
@@ -115,9 +115,9 @@ def test_randomly_thrown_inner_lips_always_end_inside(pair):
         assert np.array_equal(np.delete(fixed, INNER, axis=0), np.delete(wild, INNER, axis=0))
 
 
-def test_the_quick_inside_test_never_says_inside_wrongly(pair):
+def test_the_quick_inside_test_never_says_inside_wrongly(pair_points):
     """clearly_inside is sufficient: whenever it says inside, the exact test agrees; on real lips it decides."""
-    _, landmarks = pair
+    landmarks, _ = pair_points
     rng = np.random.default_rng(1)
     inner, outer = list(DLIB68.mouth_inner), list(DLIB68.mouth_outer)
     said_inside = 0

@@ -12,8 +12,8 @@ def ratio(points, axes):
 
 
 @pytest.mark.parametrize("angle", [0.0, 0.35])
-def test_each_organ_takes_the_source_height_to_width_ratio(pair, angle):
-    _, (sn, se, tn) = pair
+def test_each_organ_takes_the_source_height_to_width_ratio(pair_points, angle):
+    (sn, se, tn), _ = pair_points
     rot = np.array([[np.cos(angle), -np.sin(angle), 0], [np.sin(angle), np.cos(angle), 0]])
     tn = geometry.apply(rot, tn)  # a tilted target head
     gl = global_warp.global_landmarks(sn, se, tn, DLIB68)
@@ -28,8 +28,8 @@ def test_each_organ_takes_the_source_height_to_width_ratio(pair, angle):
         assert np.allclose(box(lo[idx] @ ax_t.T), box(gl[idx] @ ax_t.T))
 
 
-def test_points_outside_the_organs_stay(pair):
-    _, (sn, se, tn) = pair
+def test_points_outside_the_organs_stay(pair_points):
+    (sn, se, tn), _ = pair_points
     gl = global_warp.global_landmarks(sn, se, tn, DLIB68)
     lo = local_warp.local_landmarks(gl, se, DLIB68)
     organ_points = sorted(set().union(*DLIB68.organs.values()))

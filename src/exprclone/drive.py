@@ -163,7 +163,7 @@ class Driver:
     def __init__(self, cloner: Cloner, method: str = "e+md", lambda_k: float | str = "auto", *, head_motion=False, mouth=True) -> None:
         self.cloner, self.mouth, self.head_motion = cloner, mouth, head_motion
         self.method = lookup((method,))[0]
-        self.lambda_k = check_lambda(lambda_k) if self.method.shape == "elastic" else None
+        self.lambda_k = check_lambda(lambda_k) if self.method.uses_lambda else None
         self._to_target = geometry.fit_rigid(cloner.s_neu, cloner.t_neu, cloner.layout)
 
     def render(self, frame: np.ndarray, points: np.ndarray, index: int = 0) -> DrivenFrame:
@@ -292,7 +292,7 @@ def prepare(
     **options
         ``head_motion``, ``mouth``: as for :class:`Driver`.
     """
-    elastic = lookup((method,))[0].shape == "elastic"
+    elastic = lookup((method,))[0].uses_lambda
     check_lambda(lambda_k)
     target = check_image(target, "target_neutral")
     detector = detector or default_detector()

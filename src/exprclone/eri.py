@@ -36,6 +36,10 @@ CLAMP = (0.7, 1.4)
 TEXTURE_RANGE = (0.04, 0.10)
 #: feathering of the masks, sigma in inter-ocular distances.
 FEATHER = 0.04
+#: the face mask is smooth at the feather's scale: it is drawn this many times smaller and enlarged.
+MASK_SHRINK = 4
+#: the neutral photo's texture is its detail finer than this, in inter-ocular distances (:func:`texture_confidence`).
+DETAIL_SIGMA = 0.01
 #: the ERI's filters run on a copy shrunk as far as FILTER_SIGMA still spans this many pixels.
 FILTER_PIXELS = 3.0
 
@@ -57,9 +61,7 @@ def ratio_mask(shape: tuple[int, int], landmarks: np.ndarray, forehead: np.ndarr
         Forehead control points (the face hull reaches up to them).
     layout : Layout
     """
-    # The mask is smooth at the scale of the feather, so it is drawn at a quarter of
-    # the resolution and enlarged.
-    small = (max(1, shape[0] // 4), max(1, shape[1] // 4))
+    small = (max(1, shape[0] // MASK_SHRINK), max(1, shape[1] // MASK_SHRINK))
     scale = np.array([small[1] / shape[1], small[0] / shape[0]])
     iod = geometry.interocular(landmarks, layout) * scale.mean()
     pts, forehead = landmarks * scale, forehead * scale
@@ -104,7 +106,7 @@ def texture_confidence(y_neutral: np.ndarray, iod: float, step: int = 1) -> np.n
     """Trust in the ratio, in [0, 1]: 1 on smooth skin, 0 where the neutral photo is textured.
 
     The texture is the local relative contrast: the RMS of the luminance's detail above
-    ``0.01 iod`` over a window of ``0.03 iod``, divided by the local mean luminance (so
+    ``DETAIL_SIGMA iod`` over a window of ``FILTER_SIGMA iod``, divided by the local mean luminance (so
     dark and light skin compare alike). Skin measures about 0.02-0.03; hair and beards
     0.1 and more. It maps linearly from 1 at ``TEXTURE_RANGE[0]`` to 0 at
     ``TEXTURE_RANGE[1]``.
@@ -113,7 +115,7 @@ def texture_confidence(y_neutral: np.ndarray, iod: float, step: int = 1) -> np.n
     of the window and is computed on the image shrunk by ``step`` (:func:`shrink`), the
     grid of the returned array.
     """
-    detail = y_neutral - cv2.GaussianBlur(y_neutral, (0, 0), max(0.01 * iod, 0.5))
+    detail = y_neutral - cv2.GaussianBlur(y_neutral, (0, 0), max(DETAIL_SIGMA * iod, 0.5))
     window = max(FILTER_SIGMA * iod / step, 0.5)
     energy, mean = shrink(detail * detail, step), shrink(y_neutral, step)
     contrast = np.sqrt(cv2.GaussianBlur(energy, (0, 0), window)) / (cv2.GaussianBlur(mean, (0, 0), window) + EPS)

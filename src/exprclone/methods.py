@@ -43,6 +43,11 @@ class Method:
     details: tuple[str, ...] = ()
 
     @property
+    def uses_lambda(self) -> bool:
+        """Whether the elastic model, hence the elasticity ratio lambda_k, is used."""
+        return self.shape == "elastic"
+
+    @property
     def eri(self) -> bool:
         """Whether the ERI is applied (and, with it, the mouth interior pasted)."""
         return "eri" in self.details

@@ -33,6 +33,12 @@ CHECK_EVERY = 5
 #: a fit whose own box moved by more than this share of the box side, or changed size by
 #: more than this share, from the box it was fitted in, means the face was lost.
 MAX_BOX_CHANGE = 0.25
+#: the detector's check runs on a crop this many box sides across around the tracked face...
+CHECK_CROP = 1.5
+#: ...shrunk until the face is this many pixels wide (about 2 ms a check)...
+CHECK_FACE = 100
+#: ...unless the crop is then smaller than the HOG detector's 80-pixel window.
+DETECTOR_WINDOW = 80
 #: span of the smoothing window, in seconds: 5 frames at 25 fps, where the quadratic
 #: Savitzky-Golay filter passes motion up to 6 Hz (-3 dB), the fast end of lip motion in
 #: speech (a 7-frame window, -3 dB at 4 Hz, was seen to round off quick lip closures).
@@ -122,15 +128,15 @@ class Tracker:
         return points
 
     def _face_in(self, frame: np.ndarray, box: np.ndarray) -> bool:
-        """Whether the detector finds a face in a crop of 1.5 box sides around ``box``, shrunk to a 100-pixel face."""
+        """Whether the detector finds a face in a :data:`CHECK_CROP`-box crop around ``box``, the face shrunk to :data:`CHECK_FACE` px."""
         self.checks += 1
         side = box[2] - box[0]
         centre = 0.5 * (box[:2] + box[2:])
-        x0, y0 = np.maximum(np.floor(centre - 0.75 * side), 0).astype(int)
-        x1, y1 = np.ceil(centre + 0.75 * side).astype(int)
+        x0, y0 = np.maximum(np.floor(centre - CHECK_CROP / 2 * side), 0).astype(int)
+        x1, y1 = np.ceil(centre + CHECK_CROP / 2 * side).astype(int)
         crop = frame[y0:y1, x0:x1]
-        scale = min(1.0, 100 / side)
-        if min(crop.shape[:2]) * scale < 80:  # smaller than the detector's window: ask the whole frame
+        scale = min(1.0, CHECK_FACE / side)
+        if min(crop.shape[:2]) * scale < DETECTOR_WINDOW:  # ask the whole frame
             return False
         small = cv2.resize(crop, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA) if scale < 1 else crop
         return bool(self.detector.faces(small))

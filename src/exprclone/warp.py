@@ -38,6 +38,8 @@ from .layout import Layout
 FOREHEAD_HEIGHT = 0.45
 #: border control points per image side (corners included).
 BORDER_POINTS = 5
+#: for triangulating, closed lips are held this share of the mouth's width apart (:func:`opened_mouth`).
+LIP_GAP = 0.1
 
 
 @dataclass(frozen=True)
@@ -151,13 +153,13 @@ def build_mesh(landmarks: np.ndarray, image_shape: tuple[int, ...], layout: Layo
 def opened_mouth(points: np.ndarray, pairs: np.ndarray, first_mid: int, landmarks: np.ndarray, layout: Layout) -> np.ndarray:
     """A copy of the control points whose inner lips stand apart, for triangulating.
 
-    Facing inner-lip points closer than a tenth of the mouth's width are pushed apart
+    Facing inner-lip points closer than :data:`LIP_GAP` of the mouth's width are pushed apart
     to that gap along the face's vertical, their mid-lip point between them.
     """
     out = points.copy()
     down = geometry.face_axes(landmarks, layout)[1]
     i, j = layout.mouth_corners
-    gap = 0.1 * np.linalg.norm(landmarks[j] - landmarks[i])
+    gap = LIP_GAP * np.linalg.norm(landmarks[j] - landmarks[i])
     for k, (upper, lower) in enumerate(pairs):
         mid = (points[upper] + points[lower]) / 2
         half = max(gap, float((points[lower] - points[upper]) @ down)) / 2
