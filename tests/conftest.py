@@ -1,8 +1,12 @@
-"""Shared fixtures: the real sample photos and clips of ../shared/data, and the photos' landmarks.
+"""Shared fixtures: the samples shipped in the package, the full data sets, and landmarks.
 
-The data folder is taken from EXPRCLONE_DATA, else ../shared/data beside the checkout. The
-tests of pure geometry need no photo: they use the landmarks of a few photos, shipped in
-``tests/data/landmarks.json``.
+Most tests run on the samples that ship inside the package (:mod:`exprclone.data`: three
+London people and a GRID clip), so that ``pytest`` passes in a fresh clone with nothing
+beside it. Tests that need the full sets (the 72 London people, the 11 GRID clips) find
+them in ``$EXPRCLONE_DATA``, else ``../shared/data`` beside the checkout, and skip with the
+reason when they are absent; with ``EXPRCLONE_REQUIRE_DATA=1`` (as CI sets) they fail
+instead. The tests of pure geometry need no photo: they use the landmarks of a few
+photos, shipped in ``tests/data/landmarks.json``.
 """
 
 import json
@@ -12,50 +16,80 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from exprclone import data as samples
 from exprclone.io.images import load_image
 from exprclone.pipeline import default_detector
 
 DATA = Path(os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
 LONDON = DATA / "london"
 GRID = DATA / "grid"
+REQUIRE_FULL_DATA = os.environ.get("EXPRCLONE_REQUIRE_DATA") == "1"
 SHIPPED = json.loads((Path(__file__).parent / "data" / "landmarks.json").read_text())
 
 
+def need_full_data(path: Path) -> Path:
+    """``path`` in the full data sets; the test is skipped without it (failed under EXPRCLONE_REQUIRE_DATA=1)."""
+    if not path.exists():
+        reason = f"needs the full data sets: {path} not found (set EXPRCLONE_DATA to the folder holding london/ and grid/)"
+        (pytest.fail if REQUIRE_FULL_DATA else pytest.skip)(reason)
+    return path
+
+
 def neutral_path(face_id: str) -> Path:
-    return LONDON / "neutral_front" / f"{face_id}_03.jpg"
+    """A neutral London photo: the packaged sample when it ships, else the full set's."""
+    return samples.path(face_id) if face_id in samples.PEOPLE else LONDON / "neutral_front" / f"{face_id}_03.jpg"
 
 
 def smile_path(face_id: str) -> Path:
-    return LONDON / "smiling_front" / f"{face_id}_08.jpg"
+    """A smiling London photo: the packaged sample when it ships, else the full set's."""
+    return samples.path(face_id, "smile") if face_id in samples.PEOPLE else LONDON / "smiling_front" / f"{face_id}_08.jpg"
+
+
+#: the full set's GRID clips, or one placeholder whose test skips (fails under EXPRCLONE_REQUIRE_DATA=1).
+GRID_CLIPS = sorted(GRID.glob("*.mpg")) or [GRID / "(no clips)"]
 
 
 @pytest.fixture(scope="session")
 def london() -> Path:
-    if not LONDON.is_dir():
-        pytest.fail(f"sample data not found at {LONDON}: set EXPRCLONE_DATA to the shared data folder")
-    return LONDON
+    """The packaged samples as a London-Set folder (three people)."""
+    return samples.london()
+
+
+@pytest.fixture(scope="session")
+def london_full() -> Path:
+    """The full London Set (72 people)."""
+    return need_full_data(LONDON / "neutral_front").parent
 
 
 @pytest.fixture(scope="session")
 def grid_clip() -> Path:
-    """A GRID clip: 360x288, 25 fps, 75 frames, with sound (mp2)."""
-    clip = GRID / "bbaf2n.mpg"
-    if not clip.is_file():
-        pytest.fail(f"sample clip not found at {clip}: set EXPRCLONE_DATA to the shared data folder")
-    return clip
+    """The packaged GRID clip: 360x288, 25 fps, 75 frames, with sound (H.264 and AAC)."""
+    return samples.clip()
 
 
 @pytest.fixture(scope="session")
-def photo(london):
-    """Load a photo and its detected landmarks once per session: photo(face_id, 'neutral'|'smile')."""
+def grid_mpg() -> Path:
+    """A GRID clip as the corpus ships it: MPEG-1 with MP2 sound, 360x288, 25 fps, 75 frames."""
+    return need_full_data(GRID / "bbaf2n.mpg")
+
+
+@pytest.fixture(scope="session")
+def photo():
+    """A London photo and its detected landmarks, loaded once per session: photo(face_id, 'neutral'|'smile').
+
+    The packaged samples (001, 003, 126) always; the others, and with ``original=True``
+    the full set's own (finer) JPEG of a packaged person, need the full set.
+    """
     cache: dict = {}
 
-    def get(face_id: str, kind: str = "neutral") -> tuple[np.ndarray, np.ndarray]:
-        if (face_id, kind) not in cache:
+    def get(face_id: str, kind: str = "neutral", original: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        if (face_id, kind, original) not in cache:
             path = neutral_path(face_id) if kind == "neutral" else smile_path(face_id)
-            image = load_image(path)
-            cache[face_id, kind] = (image, default_detector().detect(image, str(path)))
-        return cache[face_id, kind]
+            if original:
+                path = LONDON / path.parent.name / path.name
+            image = load_image(need_full_data(path))
+            cache[face_id, kind, original] = (image, default_detector().detect(image, str(path)))
+        return cache[face_id, kind, original]
 
     return get
 

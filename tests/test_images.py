@@ -9,19 +9,15 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from exprclone import data as samples
 from exprclone.errors import ExprCloneError, ExprCloneWarning
 from exprclone.io.images import check_output_path, load_image, save_image
-
-DATA = Path(os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
 
 
 @pytest.fixture(scope="module")
 def photo_path() -> Path:
     """A real sample photo (read only, never modified)."""
-    photos = sorted((DATA / "london" / "neutral_front").glob("*.jpg"))
-    if not photos:
-        pytest.skip(f"no sample photos under {DATA} (set EXPRCLONE_DATA)")
-    return photos[0]
+    return samples.path("001")
 
 
 @pytest.fixture(scope="module")

@@ -1,15 +1,14 @@
 """Landmark files on the real London Set: .tem templates, their 68-point mapping, JSON I/O and bad input."""
 
 import json
-import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from exprclone import data as samples
 from exprclone.errors import ExprCloneError
 from exprclone.io.frl_template import FRL189_TO_DLIB68, frl_to_68
-from exprclone.io.images import load_image
 from exprclone.io.landmarks import read_landmarks, read_tem, write_landmarks
 from exprclone.landmarks import Detector
 
@@ -18,23 +17,14 @@ FACE = "001"
 
 
 @pytest.fixture(scope="module")
-def data_dir() -> Path:
-    data = Path(os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
-    if not (data / "london" / "neutral_front").is_dir():
-        pytest.fail(f"sample data not found at {data}: set EXPRCLONE_DATA to the shared data folder")
-    return data
+def tem_path() -> Path:
+    return samples.template(FACE)
 
 
 @pytest.fixture(scope="module")
-def tem_path(data_dir) -> Path:
-    return data_dir / "london" / "neutral_front" / f"{FACE}_03.tem"
-
-
-@pytest.fixture(scope="module")
-def detected(data_dir) -> np.ndarray:
+def detected() -> np.ndarray:
     """dlib's 68 landmarks on the photo that the template belongs to."""
-    path = data_dir / "london" / "neutral_front" / f"{FACE}_03.jpg"
-    return Detector().detect(load_image(path), str(path))
+    return Detector().detect(samples.photo(FACE))
 
 
 def test_read_tem_gives_189_points_inside_the_image_with_the_pupils_first(tem_path):

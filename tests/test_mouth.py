@@ -21,8 +21,8 @@ def polygon_mask(shape, points, shrink=0):
 
 @pytest.fixture(scope="module")
 def open_pair(photo):
-    """Source 126 smiles with her teeth; target 100's neutral mouth is closed."""
-    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("126"), photo("126", "smile"), photo("100")
+    """Source 126 smiles with her teeth; target 100's neutral mouth is closed, and the clone opens it wide (the full set's photos)."""
+    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("126", original=True), photo("126", "smile", original=True), photo("100")
     assert mouth.opening(se_lm, DLIB68) > 3 * mouth.OPENING[1] and mouth.opening(tn_lm, DLIB68) < mouth.OPENING[1]
     on = exprclone.clone(sn, se, tn, method="e+md", landmarks=(sn_lm, se_lm, tn_lm))
     off = exprclone.clone(sn, se, tn, method="e+md", landmarks=(sn_lm, se_lm, tn_lm), mouth=False)
@@ -116,7 +116,7 @@ def test_the_target_lips_stay_the_target(open_pair):
 
 
 def test_closed_mouth_source_changes_nothing(photo):
-    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("003"), photo("003", "smile"), photo("100")
+    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("003"), photo("003", "smile"), photo("001")
     assert mouth.opening(se_lm, DLIB68) < mouth.OPENING[0]
     lms = (sn_lm, se_lm, tn_lm)
     on = exprclone.clone(sn, se, tn, method="elastic+eri", landmarks=lms)
@@ -151,7 +151,7 @@ def test_a_squinting_source_has_its_eye_whites_read_on_its_neutral_photo(photo):
 
 
 def test_geometric_methods_never_paste(open_pair, photo):
-    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("126"), photo("126", "smile"), photo("100")
+    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("126"), photo("126", "smile"), photo("001")
     r = exprclone.clone(sn, se, tn, method="global", landmarks=(sn_lm, se_lm, tn_lm))
     assert r.mouth_mask is None
 

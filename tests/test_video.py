@@ -6,15 +6,15 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import GRID, neutral_path
+from conftest import GRID_CLIPS, need_full_data, neutral_path
 
+from exprclone import data as samples
 from exprclone import drive, mouth, pipeline, tracking
 from exprclone.io.images import load_image
 from exprclone.io.video import probe, read_frames
 from exprclone.layout import DLIB68
 
 PORTRAIT = neutral_path("003")
-CLIPS = sorted(GRID.glob("*.mpg"))
 
 
 def run(*args):
@@ -69,7 +69,7 @@ def test_output_mouth_follows_the_driver_on_every_clip(portrait):
     eleven clips above 0.9 (the noisiest, a moustached speaker, is about 0.8).
     """
     correlations = []
-    for clip in CLIPS:
+    for clip in map(need_full_data, GRID_CLIPS):
         raw = raw_landmarks(clip)
         seen = [i for i, p in enumerate(raw) if p is not None]
         recording = prepare(portrait, clip, neutral_frame="closed")
@@ -125,8 +125,10 @@ def test_frames_from_a_stream_that_cannot_be_read_twice(driven, grid_clip):
     assert np.array_equal(live[40].result.landmarks["source_expression"], raw[40].result.landmarks["source_expression"])
 
 
-@pytest.mark.parametrize("clip", CLIPS, ids=[c.stem for c in CLIPS])
+@pytest.mark.parametrize("clip", [samples.clip(), *GRID_CLIPS], ids=lambda c: c.name)
 def test_command_drives_a_portrait_with_every_clip(clip, tmp_path):
+    """The packaged clip, and every clip of the full set."""
+    need_full_data(clip)
     out = tmp_path / "out.mp4"
     p = run("video", PORTRAIT, clip, "-o", out, "--size", 160, "--side-by-side")
     assert p.returncode == 0, p.stderr

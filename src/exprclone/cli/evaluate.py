@@ -11,11 +11,11 @@ from ..errors import ExprCloneError
 
 def add_parser(sub) -> None:
     e = sub.add_parser("evaluate", help="score every method against real smiles on many pairs")
-    london = os.path.join(os.environ.get("EXPRCLONE_DATA", "../shared/data"), "london")
     e.add_argument(
         "--data",
-        default=london,
-        help=f"folder with neutral_front/ID_03.jpg and smiling_front/ID_08.jpg (default: {london}, from $EXPRCLONE_DATA)",
+        default=os.path.join(os.environ["EXPRCLONE_DATA"], "london") if "EXPRCLONE_DATA" in os.environ else None,
+        help="folder with neutral_front/ID_03.jpg and smiling_front/ID_08.jpg, such as the London Set"
+        " (default: $EXPRCLONE_DATA/london, else the three people shipped as samples)",
     )
     e.add_argument("--pairs", type=int, default=50, help="ordered pairs of different people, drawn with --seed (0: all; default 50)")
     e.add_argument("--seed", type=int, default=0)
@@ -27,6 +27,7 @@ def add_parser(sub) -> None:
 def run(args: argparse.Namespace) -> None:
     from pathlib import Path
 
+    from .. import data as samples
     from ..evaluation.london import Dataset
     from ..evaluation.report import run as score
     from ..evaluation.report import summarise, table, write_report
@@ -38,7 +39,7 @@ def run(args: argparse.Namespace) -> None:
         methods = tuple(m.name for m in lookup(with_methods))
     except ExprCloneError as e:
         raise ExprCloneError("--methods", e.problem) from None
-    data = Dataset.open(args.data)
+    data = Dataset.open(args.data or samples.london())
     pairs = data.pairs(args.pairs, args.seed)
     rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=lambda total, what: Bar(sys.stderr, total, what))
     command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"
