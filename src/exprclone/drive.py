@@ -33,7 +33,7 @@ import numpy as np
 from . import geometry, global_warp, mouth, tracking
 from .checks import check_image, check_lambda
 from .eigenface import Eigenfaces
-from .errors import ExprCloneError
+from .errors import ExprCloneError, NoFaceError
 from .landmarks import Detector
 from .layout import DLIB68, Layout
 from .methods import lookup
@@ -202,7 +202,7 @@ def neutral_index(track: tracking.Track, points: np.ndarray, neutral_frame: int 
     if not 0 <= neutral_frame < len(points):
         raise ExprCloneError(name, f"no frame {neutral_frame} (it has {len(points)} frames, numbered from 0)")
     if not track.found[neutral_frame]:
-        raise ExprCloneError(name, f"no face found in frame {neutral_frame}, which was to be the neutral face")
+        raise NoFaceError(name, f"no face found in frame {neutral_frame}, which was to be the neutral face")
     return neutral_frame
 
 

@@ -25,8 +25,16 @@ class ExprCloneError(ValueError):
         self.subject, self.problem = str(subject), problem
 
     def about(self, names: dict[str, str]) -> "ExprCloneError":
-        """The same problem with the subject re-named by ``names`` (unchanged if not in it)."""
-        return ExprCloneError(names.get(self.subject, self.subject), self.problem)
+        """The same problem, of the same type, with the subject re-named by ``names`` (unchanged if not in it)."""
+        return type(self)(names.get(self.subject, self.subject), self.problem)
+
+    def __reduce__(self):
+        """Pickled as its subject and problem, so it crosses into and out of worker processes whole."""
+        return type(self), (self.subject, self.problem)
+
+
+class NoFaceError(ExprCloneError):
+    """An input that is a good image or video, but shows no face where one is needed."""
 
 
 @contextlib.contextmanager

@@ -15,7 +15,7 @@ import warnings
 import cv2
 import numpy as np
 
-from .errors import ExprCloneError, ExprCloneWarning
+from .errors import ExprCloneError, ExprCloneWarning, NoFaceError
 
 #: the HOG detector runs on a copy whose longest side is at most this many pixels.
 DETECT_SIZE = 512
@@ -88,12 +88,12 @@ class Detector:
 
         Raises
         ------
-        ExprCloneError
+        NoFaceError
             No face is found.
         """
         boxes = self.faces(image)
         if not boxes:
-            raise ExprCloneError(subject, "no face found (use a frontal photo, or give its landmarks)")
+            raise NoFaceError(subject, "no face found (use a frontal photo, or give its landmarks)")
         if len(boxes) > 1:
             warnings.warn(f"{subject}: {len(boxes)} faces found, using the largest", ExprCloneWarning, stacklevel=2)
         return self.fit(image, boxes[0])

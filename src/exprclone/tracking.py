@@ -24,7 +24,7 @@ import cv2
 import numpy as np
 from scipy.signal import savgol_filter
 
-from .errors import ExprCloneError
+from .errors import NoFaceError
 from .landmarks import Detector
 from .layout import DLIB68, Layout
 
@@ -189,7 +189,7 @@ def track(frames: Iterable[np.ndarray], detector: Detector, name: str = "video")
 
     Raises
     ------
-    ExprCloneError
+    NoFaceError
         No face in any frame.
     """
     tracker = Tracker(detector)
@@ -204,7 +204,7 @@ def track(frames: Iterable[np.ndarray], detector: Detector, name: str = "video")
         fitted.append(points)
     found = np.array([p is not None for p in fitted], bool)
     if not found.any():
-        raise ExprCloneError(name, f"no face found in any of its {len(fitted)} frames")
+        raise NoFaceError(name, f"no face found in any of its {len(fitted)} frames")
     last = fitted[int(np.argmax(found))]
     held = []
     for p in fitted:

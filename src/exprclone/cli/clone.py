@@ -19,25 +19,9 @@ def add_parser(sub) -> None:
     c.add_argument("--save-json", metavar="OUT.json", help="write the landmarks of every stage, lambda_k and the DB curve")
 
 
-def result_json(result, inputs: dict[str, str]) -> dict:
-    """The JSON record of a clone: inputs (role to name), method, lambda_k, DB curve, landmarks of each stage."""
-    curve = result.db_curve
-    number = lambda v: None if v is None else (v if v != float("inf") else "inf")  # noqa: E731
-    return {
-        "inputs": dict(inputs),
-        "method": result.method,
-        "lambda_k": number(result.lambda_k),
-        "db_curve": None
-        if curve is None
-        else [{"lambda_k": number(float(lam)), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],
-        "muscle_strengths": None if result.muscle_strengths is None else [float(h) for h in result.muscle_strengths],
-        "unfolded_points": result.unfolded_points,
-        "landmarks": {k: v.round(3).tolist() for k, v in result.landmarks.items()},
-    }
-
-
 def run(args: argparse.Namespace) -> None:
     from ..io.images import atomic_write, check_output_path, save_image
+    from ..io.record import result_record
     from ..pipeline import clone
 
     paths = [args.source_neutral, args.source_expression, args.target_neutral]
@@ -49,7 +33,7 @@ def run(args: argparse.Namespace) -> None:
         result = clone(*images, method=args.method, **options)
     save_image(args.output, result.image, inputs=paths)
     if args.save_json:
-        record = json.dumps(result_json(result, names), indent=1).encode()
+        record = json.dumps(result_record(result, names), indent=1).encode()
         atomic_write(args.save_json, lambda f: f.write(record))
     extra = "" if result.lambda_k is None else f", lambda_k={result.lambda_k:g}"
     print(f"{args.output}: {args.method}{extra}")

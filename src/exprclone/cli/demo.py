@@ -18,8 +18,8 @@ def add_parser(sub) -> None:
 def run(args: argparse.Namespace) -> None:
     from .. import data
     from ..io.images import atomic_write, save_image
+    from ..io.record import result_record
     from ..pipeline import clone_methods
-    from .clone import result_json
 
     os.makedirs(args.output, exist_ok=True)
     paths = {"source_neutral": data.path(data.SOURCE), "source_expression": data.path(data.SOURCE, "smile")}
@@ -28,7 +28,7 @@ def run(args: argparse.Namespace) -> None:
     results = clone_methods(*images)
     written = {"clone.png": f"e+md, lambda_k={results['e+md'].lambda_k:g}: person {data.SOURCE}'s smile on person {data.TARGET}"}
     save_image(os.path.join(args.output, "clone.png"), results["e+md"].image)
-    record = json.dumps(result_json(results["e+md"], {k: str(v) for k, v in paths.items()}), indent=1).encode()
+    record = json.dumps(result_record(results["e+md"], {k: str(v) for k, v in paths.items()}), indent=1).encode()
     atomic_write(os.path.join(args.output, "clone.json"), lambda f: f.write(record))
     written["clone.json"] = "the landmarks of every stage, lambda_k and the DB curve"
     from ..evaluation.figures import sheet

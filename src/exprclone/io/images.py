@@ -7,6 +7,7 @@ Inside exprclone an image is a numpy array of shape (H, W, 3), dtype uint8, RGB 
 
 from __future__ import annotations
 
+import io
 import os
 import tempfile
 import warnings
@@ -37,7 +38,7 @@ _GRAY_MODES = {"1", "L", "LA", "La"}
 _PLAIN_MODES = _GRAY_MODES | {"RGB", "RGBA", "RGBa", "RGBX", "P", "PA"}
 
 
-def load_image(path: PathLike) -> np.ndarray:
+def load_image(path: PathLike | bytes, *, name: str | None = None, max_pixels: int | None = None) -> np.ndarray:
     """Read an image file as 8-bit RGB, upright according to its EXIF orientation.
 
     Transparent areas are composited over white; grayscale, palette, CMYK and
@@ -46,8 +47,12 @@ def load_image(path: PathLike) -> np.ndarray:
 
     Parameters
     ----------
-    path : str or os.PathLike
-        The image file; any format Pillow reads.
+    path : str, os.PathLike or bytes
+        The image file, or its content; any format Pillow reads.
+    name : str, optional
+        What to call it in messages (by default the path, or ``image`` for content).
+    max_pixels : int, optional
+        Refuse larger images before decoding them (a guard against decompression bombs).
 
     Returns
     -------
@@ -58,23 +63,24 @@ def load_image(path: PathLike) -> np.ndarray:
     ------
     ExprCloneError
         If the file is missing, unreadable, not an image, corrupt or truncated,
-        or smaller than ``MIN_SIDE`` pixels on a side.
+        smaller than ``MIN_SIDE`` pixels on a side, or larger than ``max_pixels``.
     """
-    image, rawmode = _open(path)
+    name = ("image" if isinstance(path, bytes) else str(path)) if name is None else name
+    image, rawmode = _open(path, name, max_pixels)
     with image:
         width, height = image.size
         if min(width, height) < MIN_SIDE:
-            raise ExprCloneError(path, f"image is too small ({width}x{height} pixels; at least {MIN_SIDE} on each side needed)")
+            raise ExprCloneError(name, f"image is too small ({width}x{height} pixels; at least {MIN_SIDE} on each side needed)")
         notes = []
         if image.mode in ("RGB", "RGBA") and ";16" in rawmode:
-            image.frombytes(_read_16bit_colour(path, image).tobytes())
+            image.frombytes(_read_16bit_colour(path, name, image).tobytes())
             notes.append("16-bit colour reduced to 8 bits per channel")
         orientation = image.getexif().get(ExifTags.Base.Orientation, 1)
         if orientation in range(2, 9):
             notes.append(f"turned upright as its EXIF orientation ({orientation}) asks")
         rgb = _to_rgb(ImageOps.exif_transpose(image), rawmode, notes)
     if notes:
-        warnings.warn(f"{path}: {'; '.join(notes)}", ExprCloneWarning, stacklevel=2)
+        warnings.warn(f"{name}: {'; '.join(notes)}", ExprCloneWarning, stacklevel=2)
     return rgb
 
 
@@ -167,19 +173,23 @@ def atomic_write(path: PathLike, write: Callable[[IO[bytes]], object]) -> None:
         raise
 
 
-def _open(path: PathLike) -> tuple[Image.Image, str]:
-    """Open ``path`` and decode its pixels; return the image and the raw mode it was stored in."""
-    if os.path.isdir(path):
-        raise ExprCloneError(path, "is a directory")
+def _open(path: PathLike | bytes, name: str, max_pixels: int | None) -> tuple[Image.Image, str]:
+    """Open ``path`` (or content) and decode its pixels; return the image and the raw mode it was stored in."""
+    if not isinstance(path, bytes) and os.path.isdir(path):
+        raise ExprCloneError(name, "is a directory")
     image = None
     try:
-        image = Image.open(path)
+        image = Image.open(io.BytesIO(path) if isinstance(path, bytes) else path)
+        if max_pixels is not None and image.width * image.height > max_pixels:
+            raise ExprCloneError(name, f"image is too large ({image.width}x{image.height} pixels; at most {max_pixels / 1e6:g} megapixels)")
         rawmode = _stored_rawmode(image)
         image.load()
     except (OSError, SyntaxError, ValueError, EOFError, Image.DecompressionBombError) as exc:
         if image is not None:
             image.close()
-        raise _read_error(path, exc) from exc
+        if isinstance(exc, ExprCloneError):
+            raise
+        raise _read_error(name, exc) from exc
     return image, rawmode
 
 
@@ -191,8 +201,8 @@ def _stored_rawmode(image: Image.Image) -> str:
     return args[0] if isinstance(args, tuple) else str(args)
 
 
-def _read_error(path: PathLike, exc: BaseException) -> ExprCloneError:
-    """The ExprCloneError for a failure to open or decode ``path``."""
+def _read_error(name: str, exc: BaseException) -> ExprCloneError:
+    """The ExprCloneError for a failure to open or decode the image called ``name``."""
     if isinstance(exc, FileNotFoundError):
         problem = "no such file"
     elif isinstance(exc, PermissionError):
@@ -205,18 +215,19 @@ def _read_error(path: PathLike, exc: BaseException) -> ExprCloneError:
         problem = f"cannot be read ({exc.strerror})"
     else:
         problem = f"image data is corrupt or truncated ({exc})"
-    return ExprCloneError(path, problem)
+    return ExprCloneError(name, problem)
 
 
-def _read_16bit_colour(path: PathLike, image: Image.Image) -> np.ndarray:
+def _read_16bit_colour(path: PathLike | bytes, name: str, image: Image.Image) -> np.ndarray:
     """Read the 16-bit RGB(A) pixels Pillow truncates, scaled to uint8 in Pillow's channel order."""
     try:
-        data = cv2.imdecode(np.fromfile(path, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
+        raw = np.frombuffer(path, np.uint8) if isinstance(path, bytes) else np.fromfile(path, dtype=np.uint8)
+        data = cv2.imdecode(raw, cv2.IMREAD_UNCHANGED)
     except OSError as exc:
-        raise _read_error(path, exc) from exc
+        raise _read_error(name, exc) from exc
     bands = len(image.getbands())
     if data is None or data.dtype != np.uint16 or data.shape != (image.height, image.width, bands):
-        raise ExprCloneError(path, "image data is corrupt or truncated (16-bit colour)")
+        raise ExprCloneError(name, "image data is corrupt or truncated (16-bit colour)")
     rgb_order = [2, 1, 0, 3][:bands]  # OpenCV reads BGR(A)
     return _scale_to_uint8(data[..., rgb_order], 65535)
 

@@ -38,15 +38,20 @@ def read_tem(path: str | os.PathLike) -> np.ndarray:
         Missing or unreadable file, a malformed count or point line, a count other than
         189, or a NaN or infinite coordinate; the message names the file.
     """
-    lines = _read_text(path).splitlines()
+    return parse_tem(_read_text(path), str(path))
+
+
+def parse_tem(text: str, name: str) -> np.ndarray:
+    """The points of a ``.tem`` template's text (see :func:`read_tem`); errors are about ``name``."""
+    lines = text.splitlines()
     header = lines[0].strip() if lines else ""
     if not header.isdigit():
-        raise ExprCloneError(path, f"not a .tem template (the first line must be the point count, got {header!r})")
+        raise ExprCloneError(name, f"not a .tem template (the first line must be the point count, got {header!r})")
     count = int(header)
     if count != TEM_POINTS:
-        raise ExprCloneError(path, f"{count} template points, expected the {TEM_POINTS}-point Face Research Lab template")
+        raise ExprCloneError(name, f"{count} template points, expected the {TEM_POINTS}-point Face Research Lab template")
     if len(lines) <= count:
-        raise ExprCloneError(path, f"not a .tem template (found {len(lines) - 1} point lines, expected {count})")
+        raise ExprCloneError(name, f"not a .tem template (found {len(lines) - 1} point lines, expected {count})")
     points = np.empty((count, 2))
     for k in range(count):
         fields = lines[1 + k].split()
@@ -55,8 +60,8 @@ def read_tem(path: str | os.PathLike) -> np.ndarray:
                 raise ValueError
             points[k] = [float(fields[0]), float(fields[1])]
         except ValueError:
-            raise ExprCloneError(path, f"not a .tem template (line {k + 2} should be 'x y', got {lines[1 + k]!r})") from None
-    check_finite(points, str(path))
+            raise ExprCloneError(name, f"not a .tem template (line {k + 2} should be 'x y', got {lines[1 + k]!r})") from None
+    check_finite(points, name)
     return points
 
 
@@ -88,14 +93,19 @@ def read_landmarks(path: str | os.PathLike, image_shape: tuple[int, ...], n_poin
         number of points, NaN or infinite values, or points outside the image; the message
         names the file.
     """
-    extension = os.path.splitext(path)[1].lower()
+    return parse_landmarks(_read_text(path), os.path.splitext(path)[1], image_shape, n_points, str(path))
+
+
+def parse_landmarks(text: str, extension: str, image_shape: tuple[int, ...], n_points: int = 68, name: str = "landmarks") -> np.ndarray:
+    """Landmarks from a landmark file's text, as :func:`read_landmarks`; ``extension`` (``.json`` or ``.tem``) names its format."""
+    extension = extension.lower()
     if extension == ".tem":
-        points = frl_to_68(read_tem(path))
+        points = frl_to_68(parse_tem(text, name))
     elif extension == ".json":
-        points = _read_json_points(path)
+        points = _parse_json_points(text, name)
     else:
-        raise ExprCloneError(path, f"unknown landmark file type {extension!r} (use .json or .tem)")
-    return check_points(points, image_shape, n_points, str(path))
+        raise ExprCloneError(name, f"unknown landmark file type {extension!r} (use .json or .tem)")
+    return check_points(points, image_shape, n_points, name)
 
 
 def write_landmarks(path: str | os.PathLike, landmarks: np.ndarray) -> None:
@@ -125,16 +135,16 @@ def write_landmarks(path: str | os.PathLike, landmarks: np.ndarray) -> None:
     atomic_write(path, lambda f: f.write(text))
 
 
-def _read_json_points(path: str | os.PathLike) -> np.ndarray:
-    """The ``[x, y]`` pairs of a JSON landmark file, as an (N, 2) array (count not checked)."""
+def _parse_json_points(text: str, name: str) -> np.ndarray:
+    """The ``[x, y]`` pairs of a JSON landmark file's text, as an (N, 2) array (count not checked)."""
     try:
-        data = json.loads(_read_text(path))
+        data = json.loads(text)
     except json.JSONDecodeError as e:
-        raise ExprCloneError(path, f"invalid JSON ({e.msg} at line {e.lineno}, column {e.colno})") from None
+        raise ExprCloneError(name, f"invalid JSON ({e.msg} at line {e.lineno}, column {e.colno})") from None
     if isinstance(data, dict):
         data = data.get("landmarks")
     if not isinstance(data, list) or not all(isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in data):
-        raise ExprCloneError(path, 'expected a list of [x, y] pairs or {"landmarks": [[x, y], ...]}')
+        raise ExprCloneError(name, 'expected a list of [x, y] pairs or {"landmarks": [[x, y], ...]}')
     return np.array(data, dtype=np.float64).reshape(-1, 2)
 
 

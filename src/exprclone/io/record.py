@@ -1,0 +1,38 @@
+"""The JSON record of a clone (``--save-json``, the API's ``?format=json``): what went in and every stage's landmarks."""
+
+from __future__ import annotations
+
+import math
+
+
+def _number(value: float | None) -> float | str | None:
+    """A float for JSON: infinity as the string ``"inf"`` (JSON has none)."""
+    return None if value is None else ("inf" if math.isinf(value) else float(value))
+
+
+def result_record(result, inputs: dict[str, str]) -> dict:
+    """The record of a :class:`~exprclone.pipeline.CloneResult`.
+
+    Parameters
+    ----------
+    result : CloneResult
+    inputs : dict of str to str
+        Each photo's role (``source_neutral``, ...) and what it was (a file name).
+
+    Returns
+    -------
+    dict
+        ``inputs``, ``method``, ``lambda_k``, ``db_curve`` (lambda_k and DB of each
+        candidate), ``muscle_strengths``, ``unfolded_points`` and ``landmarks`` (of each
+        stage, to 1/1000 pixel).
+    """
+    curve = result.db_curve
+    return {
+        "inputs": dict(inputs),
+        "method": result.method,
+        "lambda_k": _number(result.lambda_k),
+        "db_curve": None if curve is None else [{"lambda_k": _number(lam), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],
+        "muscle_strengths": None if result.muscle_strengths is None else [float(h) for h in result.muscle_strengths],
+        "unfolded_points": result.unfolded_points,
+        "landmarks": {k: v.round(3).tolist() for k, v in result.landmarks.items()},
+    }
