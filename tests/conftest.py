@@ -4,8 +4,8 @@ Most tests run on the samples that ship inside the package (:mod:`exprclone.data
 London people and a GRID clip), so that ``pytest`` passes in a fresh clone with nothing
 beside it. Tests that need the full sets (the 72 London people, the 11 GRID clips) find
 them in ``$EXPRCLONE_DATA``, else ``../shared/data`` beside the checkout, and skip with the
-reason when they are absent; with ``EXPRCLONE_REQUIRE_DATA=1`` (as CI sets) they fail
-instead. The tests of pure geometry need no photo: they use the landmarks of a few
+reason when they are absent; so do the browser tests without Debian's Chromium. With
+``EXPRCLONE_REQUIRE_ALL=1`` (as CI sets) they fail instead. The tests of pure geometry need no photo: they use the landmarks of a few
 photos, shipped in ``tests/data/landmarks.json``.
 """
 
@@ -23,16 +23,20 @@ from exprclone.pipeline import default_detector
 DATA = Path(os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
 LONDON = DATA / "london"
 GRID = DATA / "grid"
-REQUIRE_FULL_DATA = os.environ.get("EXPRCLONE_REQUIRE_DATA") == "1"
+REQUIRE_ALL = os.environ.get("EXPRCLONE_REQUIRE_ALL") == "1"
 SHIPPED = json.loads((Path(__file__).parent / "data" / "landmarks.json").read_text())
 
 
-def need_full_data(path: Path) -> Path:
-    """``path`` in the full data sets; the test is skipped without it (failed under EXPRCLONE_REQUIRE_DATA=1)."""
+def need(path: Path, reason: str) -> Path:
+    """``path``, which the test needs from outside the repository; skipped without it (failed under EXPRCLONE_REQUIRE_ALL=1)."""
     if not path.exists():
-        reason = f"needs the full data sets: {path} not found (set EXPRCLONE_DATA to the folder holding london/ and grid/)"
-        (pytest.fail if REQUIRE_FULL_DATA else pytest.skip)(reason)
+        (pytest.fail if REQUIRE_ALL else pytest.skip)(f"{reason}: {path} not found")
     return path
+
+
+def need_full_data(path: Path) -> Path:
+    """``path`` in the full data sets (see :func:`need`)."""
+    return need(path, "needs the full data sets (set EXPRCLONE_DATA to the folder holding london/ and grid/)")
 
 
 def neutral_path(face_id: str) -> Path:
@@ -45,7 +49,7 @@ def smile_path(face_id: str) -> Path:
     return samples.path(face_id, "smile") if face_id in samples.PEOPLE else LONDON / "smiling_front" / f"{face_id}_08.jpg"
 
 
-#: the full set's GRID clips, or one placeholder whose test skips (fails under EXPRCLONE_REQUIRE_DATA=1).
+#: the full set's GRID clips, or one placeholder whose test skips (fails under EXPRCLONE_REQUIRE_ALL=1).
 GRID_CLIPS = sorted(GRID.glob("*.mpg")) or [GRID / "(no clips)"]
 
 

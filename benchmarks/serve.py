@@ -1,0 +1,138 @@
+"""Latency, throughput and memory of ``exprclone serve``'s POST /api/clone, on the real server.
+
+    python benchmarks/serve.py [--data ../shared/data] [--requests 60] [--workers 2]
+
+Starts the server (``--workers``), then at 512 and 1350 pixels sends London pairs of
+photos (20 ordered pairs of different people, seed 0; at 512 the photos are shrunk and
+re-encoded as JPEG at quality 95):
+
+- first sight: each pair once, by one client, photos the server has not seen (their
+  landmarks are detected);
+- then ``--requests`` requests by 1, 2 and 4 concurrent clients, cycling through the
+  same pairs (the server remembers the landmarks of photos it has seen: the case of a
+  portrait cloned with many expressions).
+
+It prints p50 and p95 latency, throughput and errors, and the server's memory (its own
+process and its workers, resident) before and after 200 more requests.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import httpx
+import numpy as np
+from PIL import Image
+
+SIZES = (512, 1350)
+CLIENTS = (1, 2, 4)
+PAIRS = 20
+MEMORY_REQUESTS = 200
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def resident_mb(pid: int) -> float:
+    """Resident memory of a process and all its descendants, in MB (from /proc)."""
+    children = Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
+    rss = next(int(line.split()[1]) for line in Path(f"/proc/{pid}/status").read_text().splitlines() if line.startswith("VmRSS"))
+    return rss / 1024 + sum(resident_mb(int(c)) for c in children)
+
+
+def payloads(data: Path, size: int) -> list[dict]:
+    """The multipart files of PAIRS ordered pairs of different London people at ``size`` pixels."""
+    ids = sorted(p.name[:3] for p in (data / "london" / "neutral_front").glob("*_03.jpg"))
+    every = [(a, b) for a in ids for b in ids if a != b]
+    chosen = [every[i] for i in np.random.default_rng(0).choice(len(every), PAIRS, replace=False)]
+
+    def photo(face: str, smile: bool = False) -> bytes:
+        path = data / "london" / ("smiling_front" if smile else "neutral_front") / f"{face}_{'08' if smile else '03'}.jpg"
+        if size == 1350:
+            return path.read_bytes()
+        out = io.BytesIO()
+        Image.open(path).convert("RGB").resize((size, size), Image.LANCZOS).save(out, "JPEG", quality=95)
+        return out.getvalue()
+
+    return [
+        {
+            "source_neutral": ("a.jpg", photo(a, False)),
+            "source_expression": ("b.jpg", photo(a, True)),
+            "target_neutral": ("c.jpg", photo(b, False)),
+        }
+        for a, b in chosen
+    ]
+
+
+def run(url: str, files: list[dict], requests: int, clients: int) -> tuple[list[float], int, float]:
+    """``requests`` POST /api/clone by ``clients`` threads; latencies (ms), errors, wall time (s)."""
+    with httpx.Client(base_url=url, timeout=300, limits=httpx.Limits(max_connections=clients)) as client:
+
+        def one(k: int) -> tuple[float, bool]:
+            start = time.perf_counter()
+            r = client.post("/api/clone", files=files[k % len(files)])
+            return 1000 * (time.perf_counter() - start), r.status_code == 200 and r.content[:4] == b"\x89PNG"
+
+        start = time.perf_counter()
+        with ThreadPoolExecutor(clients) as pool:
+            done = list(pool.map(one, range(requests)))
+        wall = time.perf_counter() - start
+    return [ms for ms, _ in done], sum(not ok for _, ok in done), wall
+
+
+def line(name: str, latencies: list[float], errors: int, wall: float) -> str:
+    p50, p95 = np.percentile(latencies, [50, 95])
+    return f"  {name:34s} p50 {p50:6.0f} ms  p95 {p95:6.0f} ms  {len(latencies) / wall:5.2f} requests/s  errors {errors}"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", "../shared/data")))
+    parser.add_argument("--requests", type=int, default=60)
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args()
+    port = free_port()
+    server = subprocess.Popen([sys.executable, "-m", "exprclone", "serve", "--port", str(port), "--workers", str(args.workers)])
+    url = f"http://127.0.0.1:{port}"
+    try:
+        while True:
+            try:
+                httpx.get(f"{url}/api/health", timeout=1)
+                break
+            except httpx.TransportError:
+                time.sleep(0.2)
+        print(f"exprclone serve benchmark: {os.cpu_count()} cores, {args.workers} workers, POST /api/clone (e+md, PNG answer)")
+        for size in SIZES:
+            files = payloads(args.data, size)
+            print(f"\n{size}x{size} photos")
+            print(line("first sight, 1 client", *run(url, files, len(files), 1)))
+            throughput = {}
+            for clients in CLIENTS:
+                latencies, errors, wall = run(url, files, args.requests, clients)
+                throughput[clients] = len(latencies) / wall
+                print(line(f"seen before, {clients} client{'s' * (clients > 1)}", latencies, errors, wall))
+            print(f"  throughput with 4 clients / with 1: {throughput[4] / throughput[1]:.2f}x")
+        before = resident_mb(server.pid)
+        latencies, errors, wall = run(url, payloads(args.data, 1350), MEMORY_REQUESTS, 4)
+        after = resident_mb(server.pid)
+        print(f"\nmemory (server and workers, resident): {before:.0f} MB, then {after:.0f} MB after {MEMORY_REQUESTS} more at 1350 px")
+        print(f"  ({100 * (after / before - 1):+.1f}%; those requests: {errors} errors)")
+    finally:
+        os.kill(server.pid, signal.SIGINT)
+        server.wait(timeout=60)
+
+
+if __name__ == "__main__":
+    main()

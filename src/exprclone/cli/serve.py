@@ -1,0 +1,35 @@
+"""``exprclone serve``: the web page and the HTTP API (:mod:`exprclone.server`), until Ctrl-C."""
+
+from __future__ import annotations
+
+import argparse
+import os
+
+from ..errors import ExprCloneError
+
+
+def add_parser(sub) -> None:
+    s = sub.add_parser("serve", help="serve the web page and the HTTP API")
+    s.add_argument("--host", default="127.0.0.1", help="address to listen on (default: 127.0.0.1, this machine only)")
+    s.add_argument("--port", type=int, default=8000, help="port (default: 8000)")
+    s.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes that clone (default: the number of cores)")
+    s.add_argument("--queue", type=int, default=8, help="requests that may wait for a worker; more are refused with 503 (default: 8)")
+    s.add_argument("--max-upload-mb", type=float, default=20.0, help="largest request, in MB (default: 20)")
+    s.add_argument("--cors", action="append", default=[], metavar="ORIGIN", help="let pages from ORIGIN call the API (repeatable)")
+
+
+def run(args: argparse.Namespace) -> None:
+    import uvicorn
+
+    from ..server.app import Settings, create_app
+
+    if args.workers < 1:
+        raise ExprCloneError("--workers", f"expected at least 1, got {args.workers}")
+    if args.queue < 0:
+        raise ExprCloneError("--queue", f"expected 0 or more, got {args.queue}")
+    if args.max_upload_mb <= 0:
+        raise ExprCloneError("--max-upload-mb", f"expected a positive size, got {args.max_upload_mb:g}")
+    settings = Settings(workers=args.workers, queue=args.queue, max_upload_mb=args.max_upload_mb, cors=tuple(args.cors))
+    print(f"exprclone: serving on http://{args.host}:{args.port}/ ({args.workers} workers; Ctrl-C to stop)", flush=True)
+    uvicorn.run(create_app(settings), host=args.host, port=args.port, log_level="warning")
+    print("exprclone: stopped", flush=True)

@@ -1,0 +1,215 @@
+"""The HTTP API and the page: ``/api/...`` routes, each a thin layer over :mod:`exprclone.server.work`."""
+
+from __future__ import annotations
+
+import asyncio
+import base64
+import shutil
+from importlib import resources
+from pathlib import Path
+from typing import Annotated
+
+from fastapi import APIRouter, File, Form, Query, Request, UploadFile
+from fastapi.responses import FileResponse, JSONResponse, Response
+
+from .. import __version__
+from .. import data as samples
+from ..checks import check_lambda
+from ..errors import ExprCloneError, naming
+from ..io.video import probe
+from ..methods import METHODS, lookup
+from . import work
+
+router = APIRouter()
+
+#: the photos of a clone, by form field (the core's names for them).
+PHOTOS = ("source_neutral", "source_expression", "target_neutral")
+LANDMARK_FIELDS = tuple(f"{field}_landmarks" for field in PHOTOS)
+#: the samples the page's "try the sample photos" fetches, by name.
+SAMPLES = {
+    "source_neutral": lambda: samples.path(samples.SOURCE),
+    "source_expression": lambda: samples.path(samples.SOURCE, "smile"),
+    "target_neutral": lambda: samples.path(samples.TARGET),
+    "portrait": lambda: samples.path(samples.TARGET),
+    "driving_video": samples.clip,
+}
+#: what the landmark files may be (their client file name's extension is the only part of it used).
+LANDMARK_EXTENSIONS = (".json", ".tem")
+#: the largest video size a job may ask for (its portrait's longest side, pixels).
+MAX_VIDEO_SIZE = 2048
+
+Photo = Annotated[UploadFile, File(description="a photo (JPEG, PNG, ...)")]
+Landmarks = Annotated[UploadFile | None, File(description='its landmarks: .json ([[x, y], ...] or {"landmarks": ...}) or a .tem template')]
+Method = Annotated[str, Form(description=f"one of {', '.join(METHODS)}")]
+Lambda = Annotated[str, Form(alias="lambda", description="the elasticity ratio k_A'/k_N: auto (the DB metric chooses) or a number >= 0")]
+Mouth = Annotated[bool, Form(description="paste the source's mouth interior (teeth) into an opened mouth")]
+
+
+def parse_lambda(text: str) -> float | str:
+    """``auto`` or a number >= 0 (``inf`` too), else ExprCloneError about ``lambda``."""
+    if text == "auto":
+        return text
+    try:
+        return check_lambda(float(text))
+    except ValueError:
+        raise ExprCloneError("lambda", f"must be 'auto' or a number >= 0, got {text!r}") from None
+
+
+async def read_upload(upload: UploadFile | None, field: str, extensions: tuple[str, ...] = (), required: bool = True) -> work.Upload | None:
+    """An upload's content (None for an optional one not sent); for a landmark file, its kind from the extension the client
+    gave it (nothing else of a client's file name is used)."""
+    content = b"" if upload is None else await upload.read()
+    if not content:
+        if required or (upload is not None and upload.filename):
+            raise ExprCloneError(field, "missing" if upload is None or not upload.filename else "the file is empty")
+        return None
+    extension = Path(upload.filename or "").suffix.lower()
+    if extensions and extension not in extensions:
+        raise ExprCloneError(field, f"a landmark file must be {' or '.join(extensions)}, got {extension or 'no extension'!r}")
+    return work.Upload(field, content, extension)
+
+
+async def clone_request(request: Request, method: str, lambda_text: str, mouth: bool, uploads: dict) -> work.CloneRequest:
+    """The checked request: the method known, lambda valid, three photos and any landmark files read."""
+    lookup((method,))
+    lambda_k = parse_lambda(lambda_text)
+    photos = tuple([await read_upload(uploads[field], field) for field in PHOTOS])
+    marks = tuple([await read_upload(uploads[field], field, LANDMARK_EXTENSIONS, required=False) for field in LANDMARK_FIELDS])
+    max_pixels = request.app.state.work.settings.max_pixels
+    return work.CloneRequest(photos, marks, method, lambda_k, mouth, max_pixels)
+
+
+@router.get("/", include_in_schema=False)
+async def page() -> FileResponse:
+    return FileResponse(Path(str(resources.files(__package__) / "static" / "index.html")))
+
+
+@router.get("/api/health")
+async def health() -> dict:
+    """The server is up: ``{"status": "ok", "version": ...}``."""
+    return {"status": "ok", "version": __version__}
+
+
+@router.get("/api/samples/{name}")
+async def sample(name: str) -> FileResponse:
+    """A sample shipped in the package (:mod:`exprclone.data`): ``source_neutral``, ``source_expression``,
+    ``target_neutral``, ``portrait`` or ``driving_video``."""
+    if name not in SAMPLES:
+        raise ExprCloneError("sample", f"no sample {name!r}; choose one of {', '.join(SAMPLES)}")
+    path = SAMPLES[name]()
+    return FileResponse(path, filename=path.name)
+
+
+@router.post("/api/landmarks")
+async def landmarks(request: Request, photo: Photo) -> dict:
+    """The landmarks detected on a photo: ``{"width", "height", "landmarks": [[x, y], ...]}`` (68 points)."""
+    upload = await read_upload(photo, "photo")
+    return await request.app.state.work.run(work.landmarks, upload, request.app.state.work.settings.max_pixels)
+
+
+@router.post("/api/clone", responses={200: {"content": {"image/png": {}}, "description": "the result, at the target photo's size"}})
+async def clone(
+    request: Request,
+    source_neutral: Photo,
+    source_expression: Photo,
+    target_neutral: Photo,
+    source_neutral_landmarks: Landmarks = None,
+    source_expression_landmarks: Landmarks = None,
+    target_neutral_landmarks: Landmarks = None,
+    method: Method = "e+md",
+    lambda_text: Lambda = "auto",
+    mouth: Mouth = True,
+    format: Annotated[str, Query(pattern="^(png|json)$", description="png (default), or json: the record with the PNG as base64")] = "png",
+):
+    """The source's expression on the target: PNG, or with ``?format=json`` the JSON record of ``--save-json`` plus ``png`` (base64)."""
+    uploads = dict(zip(PHOTOS, (source_neutral, source_expression, target_neutral)))
+    uploads.update(zip(LANDMARK_FIELDS, (source_neutral_landmarks, source_expression_landmarks, target_neutral_landmarks)))
+    png, record = await request.app.state.work.run(work.clone, await clone_request(request, method, lambda_text, mouth, uploads))
+    if format == "json":
+        return JSONResponse({**record, "png": base64.b64encode(png).decode()})
+    return Response(png, media_type="image/png")
+
+
+@router.post("/api/compare", responses={200: {"content": {"image/png": {}}, "description": "the sheet of Figs. 11-13"}})
+async def compare(
+    request: Request,
+    source_neutral: Photo,
+    source_expression: Photo,
+    target_neutral: Photo,
+    source_neutral_landmarks: Landmarks = None,
+    source_expression_landmarks: Landmarks = None,
+    target_neutral_landmarks: Landmarks = None,
+    lambda_text: Lambda = "auto",
+    mouth: Mouth = True,
+):
+    """Every method of Fig. 11, the difference images of Figs. 12-13 and the DB curve, as one PNG sheet."""
+    uploads = dict(zip(PHOTOS, (source_neutral, source_expression, target_neutral)))
+    uploads.update(zip(LANDMARK_FIELDS, (source_neutral_landmarks, source_expression_landmarks, target_neutral_landmarks)))
+    sheet = await request.app.state.work.run(work.compare, await clone_request(request, "e+md", lambda_text, mouth, uploads))
+    return Response(sheet, media_type="image/png")
+
+
+def neutral_frame(text: str) -> int | str | None:
+    """``first`` (None: the first frame with a face), ``closed``, or a frame number."""
+    if text in ("first", "closed"):
+        return None if text == "first" else text
+    if not text.isdigit():
+        raise ExprCloneError("neutral_frame", f"must be first, closed or a frame number, got {text!r}")
+    return int(text)
+
+
+@router.post("/api/video", status_code=202)
+async def video(
+    request: Request,
+    portrait: Photo,
+    driving_video: Annotated[UploadFile, File(description="a video of the source person (any format FFmpeg reads)")],
+    method: Method = "e+md",
+    lambda_text: Lambda = "auto",
+    mouth: Mouth = True,
+    size: Annotated[int, Form(ge=16, le=MAX_VIDEO_SIZE, description="the portrait's longest side in the output, pixels")] = 512,
+    neutral: Annotated[
+        str, Form(alias="neutral_frame", description="first (frame with a face), closed (most closed mouth) or N")
+    ] = "closed",
+    side_by_side: Annotated[bool, Form(description="the driving video beside the result")] = False,
+    head_motion: Annotated[bool, Form(description="carry the source's head motion over")] = False,
+) -> dict:
+    """Start a video job: ``202 {"id", "status", "result"}``; follow it at ``/api/jobs/{id}``."""
+    options = dict(method=lookup((method,))[0].name, lambda_k=parse_lambda(lambda_text), neutral_frame=neutral_frame(neutral))
+    options.update(mouth=mouth, head_motion=head_motion)
+    photo = await read_upload(portrait, "portrait")
+    state = request.app.state.work
+    await state.run(work.landmarks, photo, state.settings.max_pixels)  # a portrait without a face fails now, not in the job
+    job = state.jobs.create()
+    try:
+        with job.video.open("wb") as out:
+            await asyncio.to_thread(shutil.copyfileobj, driving_video.file, out)
+        with naming({str(job.video): "driving_video"}):
+            await asyncio.to_thread(probe, job.video)  # a file that is not a video fails now, not in the job
+        task = work.VideoRequest(
+            photo, str(job.video), str(job.result), str(job.progress_file), options, size, side_by_side, state.settings.max_pixels
+        )
+        state.jobs.start(job, state.video_pool.submit(work.video, task))
+    except BaseException:
+        state.jobs.discard(job)
+        raise
+    return {"id": job.id, "status": f"/api/jobs/{job.id}", "result": f"/api/jobs/{job.id}/result"}
+
+
+@router.get("/api/jobs/{job_id}")
+async def job_state(request: Request, job_id: str) -> dict:
+    """A job's ``state`` (queued, running, done, failed), ``progress`` (0 to 1), ``error`` and, once done, ``info``."""
+    state = request.app.state.work.jobs
+    state.expire()
+    return state.get(job_id).state()
+
+
+@router.get("/api/jobs/{job_id}/result", responses={200: {"content": {"video/mp4": {}}}})
+async def job_result(request: Request, job_id: str) -> FileResponse:
+    """The job's MP4, once it is done (409 before)."""
+    job = request.app.state.work.jobs.get(job_id)
+    state = job.state()
+    if state["state"] != "done":
+        return JSONResponse(
+            {"error": f"job {job_id}: {state['state']}" + (f" ({state['error']})" if state["error"] else "")}, status_code=409
+        )
+    return FileResponse(job.result, media_type="video/mp4", filename="exprclone.mp4")

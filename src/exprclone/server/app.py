@@ -1,0 +1,164 @@
+"""The web application of ``exprclone serve``: settings, the worker pools, error answers, the page.
+
+Models are loaded once per worker process at start-up (FastAPI's lifespan), CPU work
+runs in those processes, never on the event loop, and every error a user can cause is
+answered as JSON ``{"error": "<field: problem>"}`` with a 4xx status: 400 for a file
+that is not an image or a bad parameter, 413 for an upload over the limit, 422 for a
+photo or video without a face, 503 (with ``Retry-After``) when the work queue is full.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import multiprocessing
+import os
+import shutil
+import tempfile
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.middleware.cors import CORSMiddleware
+from fastapi.responses import JSONResponse
+from fastapi.staticfiles import StaticFiles
+from starlette.exceptions import HTTPException
+
+from .. import __version__
+from ..errors import ExprCloneError, NoFaceError
+from . import work
+from .jobs import Jobs, NoSuchJob
+from .limits import RETRY_AFTER, Busy, Gate, UploadLimit
+
+log = logging.getLogger("exprclone.server")
+
+
+@dataclass(frozen=True)
+class Settings:
+    """How the server runs.
+
+    Attributes
+    ----------
+    workers : int
+        Processes that clone (each loads the models once).
+    queue : int
+        Requests that may wait for a worker beyond those at work; more are refused (503).
+    max_upload_mb : float
+        The largest request body.
+    max_pixels : int
+        The largest photo, in pixels (checked before it is decoded).
+    max_jobs : int
+        Video jobs kept at once (queued, running, or done and not yet expired).
+    job_ttl : float
+        Seconds a finished job's result is kept.
+    video_workers : int
+        Processes that run video jobs (apart from the clone workers, so that a long video does not hold up clones).
+    cors : tuple of str
+        Origins allowed to call the API from other pages (none by default).
+    """
+
+    workers: int = os.cpu_count() or 1
+    queue: int = 8
+    max_upload_mb: float = 20.0
+    max_pixels: int = 25_000_000
+    max_jobs: int = 8
+    job_ttl: float = 3600.0
+    video_workers: int = 1
+    cors: tuple[str, ...] = ()
+
+
+class Work:
+    """The server's state: its temporary folder, the worker pools, the work queue's gate and the video jobs."""
+
+    def __init__(self, settings: Settings) -> None:
+        self.settings = settings
+        self.folder = Path(tempfile.mkdtemp(prefix="exprclone-serve-"))
+        self.gate = Gate(settings.workers + settings.queue)
+        self.jobs = Jobs(self.folder, settings.max_jobs, settings.job_ttl)
+        self.pool = self._pool(settings.workers)
+        self.video_pool = self._pool(settings.video_workers)
+
+    @staticmethod
+    def _pool(workers: int) -> ProcessPoolExecutor:
+        # spawned, not forked: the web process runs threads (the event loop, the pools' own)
+        return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=work.load_models)
+
+    def warm_up(self) -> None:
+        """Start every clone worker now (each loads the models as it starts)."""
+        for future in [self.pool.submit(work.ready) for _ in range(self.settings.workers)]:
+            future.result()
+
+    async def run(self, function, *args):
+        """``function(*args)`` in a clone worker, past the gate; a broken pool is replaced and the request refused (503)."""
+        import asyncio
+
+        with self.gate:
+            try:
+                return await asyncio.get_running_loop().run_in_executor(self.pool, function, *args)
+            except BrokenProcessPool:
+                log.error("a worker process died; starting new ones")
+                self.pool = self._pool(self.settings.workers)
+                raise Busy("a worker stopped unexpectedly; try again") from None
+
+    def close(self) -> None:
+        """Stop the workers (jobs not yet started are cancelled) and remove the temporary folder."""
+        for pool in (self.pool, self.video_pool):
+            pool.shutdown(wait=True, cancel_futures=True)
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+def _error(status: int, message: str, headers: dict | None = None) -> JSONResponse:
+    return JSONResponse({"error": message}, status_code=status, headers=headers)
+
+
+def _validation_message(error: RequestValidationError) -> str:
+    """One line naming the first field that failed FastAPI's checks, and why."""
+    first = error.errors()[0]
+    where = [str(part) for part in first.get("loc", ()) if part not in ("body", "query", "path")]
+    return f"{'.'.join(where) or 'request'}: {'missing' if first.get('type') == 'missing' else first.get('msg', 'invalid')}"
+
+
+def add_error_answers(app: FastAPI) -> None:
+    """Every error as JSON ``{"error": ...}``; nothing a user sends gives a traceback."""
+    app.add_exception_handler(NoFaceError, lambda request, e: _error(422, str(e)))
+    app.add_exception_handler(ExprCloneError, lambda request, e: _error(400, str(e)))
+    app.add_exception_handler(RequestValidationError, lambda request, e: _error(400, _validation_message(e)))
+    app.add_exception_handler(Busy, lambda request, e: _error(503, str(e), {"Retry-After": str(RETRY_AFTER)}))
+    app.add_exception_handler(NoSuchJob, lambda request, e: _error(404, str(e)))
+    app.add_exception_handler(HTTPException, lambda request, e: _error(e.status_code, str(e.detail), e.headers))
+
+    async def internal(request: Request, e: Exception) -> JSONResponse:
+        log.exception("internal error on %s", request.url.path)
+        return _error(500, "internal error")
+
+    app.add_exception_handler(Exception, internal)
+
+
+def create_app(settings: Settings | None = None) -> FastAPI:
+    """The application; its workers start (and load the models) when it starts serving."""
+    settings = settings or Settings()
+
+    @contextlib.asynccontextmanager
+    async def lifespan(app: FastAPI):
+        app.state.work = Work(settings)
+        app.state.work.warm_up()
+        try:
+            yield
+        finally:
+            app.state.work.close()
+
+    from .api import router
+
+    app = FastAPI(title="exprclone", version=__version__, lifespan=lifespan, description=(__doc__ or "").split("\n\n")[1])
+    add_error_answers(app)
+    app.include_router(router)
+    static = Path(str(resources.files(__package__) / "static"))
+    app.mount("/static", StaticFiles(directory=static), name="static")
+    if settings.cors:
+        app.add_middleware(CORSMiddleware, allow_origins=list(settings.cors), allow_methods=["GET", "POST"])
+    app.add_middleware(UploadLimit, max_bytes=int(settings.max_upload_mb * 2**20))
+    return app

@@ -1,0 +1,87 @@
+"""What keeps a user from making the server hold unbounded memory or work: the upload limit and the work queue."""
+
+from __future__ import annotations
+
+import json
+
+#: seconds a client is told to wait (``Retry-After``) when the work queue is full.
+RETRY_AFTER = 2
+
+
+class Busy(Exception):
+    """The work queue is full: answered 503 with ``Retry-After``."""
+
+
+class Gate:
+    """At most ``limit`` requests at work or waiting for a worker; the next is refused (:class:`Busy`).
+
+    Used from the event loop only, so a plain counter is safe.
+    """
+
+    def __init__(self, limit: int) -> None:
+        self.limit, self.inside = limit, 0
+
+    def __enter__(self) -> "Gate":
+        if self.inside >= self.limit:
+            raise Busy(f"the server is busy ({self.limit} requests at work or waiting); try again in {RETRY_AFTER} s")
+        self.inside += 1
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.inside -= 1
+
+
+async def _answer(send, status: int, error: str) -> None:
+    body = json.dumps({"error": error}).encode()
+    headers = [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode())]
+    await send({"type": "http.response.start", "status": status, "headers": headers})
+    await send({"type": "http.response.body", "body": body})
+
+
+class UploadLimit:
+    """ASGI middleware: a request body over ``max_bytes`` is answered 413, as it streams in.
+
+    A declared ``Content-Length`` over the limit is refused before any of the body is
+    read; otherwise the bytes are counted as they arrive, and at the first byte over the
+    limit reading stops and the answer is 413, whatever the application was doing with
+    the body (its own answer, if any, is dropped).
+    """
+
+    def __init__(self, app, max_bytes: int) -> None:
+        self.app, self.max_bytes = app, max_bytes
+        self.error = f"upload too large: at most {max_bytes / 2**20:g} MB per request"
+
+    async def __call__(self, scope, receive, send) -> None:
+        if scope["type"] != "http":
+            return await self.app(scope, receive, send)
+        declared = dict(scope["headers"]).get(b"content-length")
+        if declared is not None and declared.isdigit() and int(declared) > self.max_bytes:
+            return await _answer(send, 413, self.error)
+        state = {"received": 0, "over": False, "answered": False}
+
+        async def counted():
+            message = await receive()
+            state["received"] += len(message.get("body", b""))
+            if state["received"] > self.max_bytes:
+                state["over"] = True
+                raise OverLimit
+            return message
+
+        async def guarded(message):
+            if not state["over"]:
+                return await send(message)
+            if not state["answered"] and message["type"] == "http.response.start":
+                state["answered"] = True
+                await _answer(send, 413, self.error)
+
+        try:
+            await self.app(scope, counted, guarded)
+        except Exception:
+            if not state["over"]:
+                raise
+        if state["over"] and not state["answered"]:
+            await _answer(send, 413, self.error)
+
+
+class OverLimit(Exception):
+    """Raised into the application when the body grows over the limit, to stop it reading."""

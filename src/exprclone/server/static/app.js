@@ -1,0 +1,233 @@
+// exprclone's page: drop zones with previews and landmarks, clone, compare, video jobs. No build step.
+"use strict";
+
+const $ = (selector) => document.querySelector(selector);
+// the candidates of the DB metric (exprclone.metric.LAMBDAS), for the slider
+const LAMBDAS = [0, 0.1, 0.2, 0.35, 0.5, 0.75, 1, 1.5, 2, 3, 5, 10, Infinity];
+const REQUEST_TIMEOUT = 180000; // ms: a request never hangs the page
+const POLL_EVERY = 500; // ms between two looks at a video job
+
+// The server names inputs by their form field ("target_neutral: no face found"); the page by their label.
+function say(message) {
+  const box = $("#error");
+  box.textContent = message ? message.replace(/^([a-z_]+):/, (_, field) => field.replace(/_/g, " ") + ":") : "";
+  box.hidden = !message;
+}
+
+function busy(on) {
+  $("#busy").hidden = !on;
+  for (const id of ["#clone", "#compare", "#video-start"]) $(id).disabled = on;
+}
+
+// fetch that gives the server's {"error"} as an Error, and never waits forever
+async function call(url, options = {}) {
+  const controller = new AbortController();
+  const timer = setTimeout(() => controller.abort(), REQUEST_TIMEOUT);
+  let response;
+  try {
+    response = await fetch(url, { ...options, signal: controller.signal });
+  } catch (e) {
+    throw new Error(e.name === "AbortError" ? "the server took too long to answer" : "the server cannot be reached");
+  } finally {
+    clearTimeout(timer);
+  }
+  if (!response.ok) {
+    let message = `the server answered ${response.status}`;
+    try { message = (await response.json()).error || message; } catch (e) { /* not JSON */ }
+    throw new Error(message);
+  }
+  return response;
+}
+
+function fileOf(field) {
+  return document.getElementById(field).files[0];
+}
+
+// --- drop zones, previews, landmarks ----------------------------------------------------
+function drawLandmarks(zone, found) {
+  const img = zone.querySelector("img");
+  const canvas = zone.querySelector("canvas");
+  canvas.width = img.clientWidth;
+  canvas.height = img.clientHeight;
+  const context = canvas.getContext("2d");
+  context.clearRect(0, 0, canvas.width, canvas.height);
+  if (!found || !$("#show-landmarks").checked) return;
+  const scale = canvas.width / found.width;
+  context.fillStyle = "#00e676";
+  for (const [x, y] of found.landmarks) {
+    context.beginPath();
+    context.arc(x * scale, y * scale, 2, 0, 2 * Math.PI);
+    context.fill();
+  }
+}
+
+async function preview(zone) {
+  const input = zone.querySelector("input");
+  const file = input.files[0];
+  const media = zone.querySelector("img, video");
+  zone.found = null;
+  if (!file) return;
+  media.src = URL.createObjectURL(file);
+  if (media.tagName !== "IMG") return;
+  await new Promise((resolve) => { media.onload = resolve; });
+  try {
+    const form = new FormData();
+    form.append("photo", file);
+    zone.found = await (await call("/api/landmarks", { method: "POST", body: form })).json();
+    say("");
+  } catch (e) {
+    say(e.message.replace(/^photo:/, zone.dataset.field + ":"));
+  }
+  drawLandmarks(zone, zone.found);
+}
+
+function setFile(input, file) {
+  const transfer = new DataTransfer();
+  transfer.items.add(file);
+  input.files = transfer.files;
+  input.dispatchEvent(new Event("change"));
+}
+
+for (const zone of document.querySelectorAll(".zone")) {
+  const input = zone.querySelector("input");
+  input.addEventListener("change", () => preview(zone));
+  zone.addEventListener("dragover", (event) => { event.preventDefault(); zone.classList.add("over"); });
+  zone.addEventListener("dragleave", () => zone.classList.remove("over"));
+  zone.addEventListener("drop", (event) => {
+    event.preventDefault();
+    zone.classList.remove("over");
+    if (event.dataTransfer.files.length) setFile(input, event.dataTransfer.files[0]);
+  });
+}
+$("#show-landmarks").addEventListener("change", () => {
+  for (const zone of document.querySelectorAll(".zone")) if (zone.querySelector("canvas")) drawLandmarks(zone, zone.found);
+});
+
+async function loadSamples(fields) {
+  try {
+    for (const field of fields) {
+      const blob = await (await call(`/api/samples/${field}`)).blob();
+      const name = field === "driving_video" ? "sample.mp4" : `${field}.jpg`;
+      setFile(document.getElementById(field), new File([blob], name, { type: blob.type }));
+    }
+  } catch (e) {
+    say(e.message);
+  }
+}
+$("#samples").addEventListener("click", () => loadSamples(["source_neutral", "source_expression", "target_neutral"]));
+$("#video-samples").addEventListener("click", () => loadSamples(["portrait", "driving_video"]));
+
+// --- options ----------------------------------------------------------------------------
+function lambdaValue() {
+  return $("#lambda-auto").checked ? "auto" : String(LAMBDAS[Number($("#lambda").value)]).replace("Infinity", "inf");
+}
+function showLambda() {
+  $("#lambda").disabled = $("#lambda-auto").checked;
+  $("#lambda-value").textContent = lambdaValue();
+}
+$("#lambda-auto").addEventListener("change", showLambda);
+$("#lambda").addEventListener("input", showLambda);
+
+function cloneForm(withMethod) {
+  const form = new FormData();
+  for (const field of ["source_neutral", "source_expression", "target_neutral"]) {
+    const file = fileOf(field);
+    if (!file) throw new Error(`${field}: choose a photo`);
+    form.append(field, file);
+  }
+  if (withMethod) form.append("method", $("#method").value);
+  form.append("lambda", lambdaValue());
+  form.append("mouth", $("#mouth").checked ? "true" : "false");
+  return form;
+}
+
+// --- clone and compare --------------------------------------------------------------------
+let shown = { result: null, before: null };
+
+$("#clone").addEventListener("click", async () => {
+  say("");
+  busy(true);
+  try {
+    const record = await (await call("/api/clone?format=json", { method: "POST", body: cloneForm(true) })).json();
+    const png = `data:image/png;base64,${record.png}`;
+    delete record.png;
+    shown = { result: png, before: URL.createObjectURL(fileOf("target_neutral")) };
+    $("#result").src = png;
+    $("#toggle").setAttribute("aria-pressed", "false");
+    $("#toggle").textContent = "Show before";
+    const lambda = record.lambda_k === null ? "" : `, λk = ${record.lambda_k}`;
+    $("#result-caption").textContent = `${record.method}${lambda}. `;
+    $("#download-png").href = png;
+    $("#download-json").href = URL.createObjectURL(new Blob([JSON.stringify(record, null, 1)], { type: "application/json" }));
+    $("#result-box").hidden = false;
+  } catch (e) {
+    say(e.message);
+  } finally {
+    busy(false);
+  }
+});
+
+$("#toggle").addEventListener("click", () => {
+  const before = $("#toggle").getAttribute("aria-pressed") !== "true";
+  $("#result").src = before ? shown.before : shown.result;
+  $("#toggle").setAttribute("aria-pressed", String(before));
+  $("#toggle").textContent = before ? "Show after" : "Show before";
+});
+
+$("#compare").addEventListener("click", async () => {
+  say("");
+  busy(true);
+  try {
+    const url = URL.createObjectURL(await (await call("/api/compare", { method: "POST", body: cloneForm(false) })).blob());
+    $("#sheet").src = url;
+    $("#download-sheet").href = url;
+    $("#sheet-box").hidden = false;
+  } catch (e) {
+    say(e.message);
+  } finally {
+    busy(false);
+  }
+});
+
+// --- video jobs ---------------------------------------------------------------------------
+function sleep(ms) { return new Promise((resolve) => setTimeout(resolve, ms)); }
+
+$("#video-start").addEventListener("click", async () => {
+  say("");
+  busy(true);
+  const progress = $("#video-progress");
+  try {
+    const form = new FormData();
+    for (const field of ["portrait", "driving_video"]) {
+      if (!fileOf(field)) throw new Error(`${field}: choose a file`);
+      form.append(field, fileOf(field));
+    }
+    form.append("method", $("#method").value);
+    form.append("lambda", lambdaValue());
+    form.append("mouth", $("#mouth").checked ? "true" : "false");
+    form.append("size", $("#video-size").value);
+    form.append("neutral_frame", $("#video-neutral").value);
+    form.append("side_by_side", $("#video-side-by-side").checked ? "true" : "false");
+    form.append("head_motion", $("#video-head-motion").checked ? "true" : "false");
+    const job = await (await call("/api/video", { method: "POST", body: form })).json();
+    progress.hidden = false;
+    progress.value = 0;
+    for (;;) {
+      const state = await (await call(job.status)).json();
+      progress.value = state.progress;
+      $("#video-state").textContent = `${state.state} ${Math.round(100 * state.progress)}%`;
+      if (state.state === "failed") throw new Error(state.error);
+      if (state.state === "done") break;
+      await sleep(POLL_EVERY);
+    }
+    const url = URL.createObjectURL(await (await call(job.result)).blob());
+    $("#video-result").src = url;
+    $("#download-video").href = url;
+    $("#video-box").hidden = false;
+  } catch (e) {
+    say(e.message);
+    $("#video-state").textContent = "";
+  } finally {
+    busy(false);
+  }
+});

@@ -1,0 +1,183 @@
+"""The server's CPU work, run in worker processes that load the models once.
+
+Each function takes small, picklable arguments (the uploaded bytes and the options) and
+returns encoded results, so that only files cross between the web process and its
+workers. A worker remembers the landmarks of the photos it has seen, by the SHA-256 of
+their bytes: a portrait sent again with another expression is not detected again.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import warnings
+from collections import OrderedDict
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import naming
+
+#: photos whose landmarks a worker remembers.
+LANDMARK_CACHE = 256
+#: frames between two updates of a video job's progress file.
+PROGRESS_EVERY = 5
+
+_seen: OrderedDict[str, np.ndarray] = OrderedDict()
+
+
+@dataclass(frozen=True)
+class Upload:
+    """An uploaded file: the form field it came in (which names it in errors), its content, and for a
+    landmark file the extension the client gave it (the only part of a client's file name that is used)."""
+
+    field: str
+    content: bytes
+    extension: str = ""
+
+
+@dataclass(frozen=True)
+class CloneRequest:
+    """What ``POST /api/clone`` and ``/api/compare`` ask: three photos, optional landmark files, the options."""
+
+    photos: tuple[Upload, Upload, Upload]
+    landmarks: tuple[Upload | None, Upload | None, Upload | None]
+    method: str = "e+md"
+    lambda_k: float | str = "auto"
+    mouth: bool = True
+    max_pixels: int | None = None
+
+
+@dataclass(frozen=True)
+class VideoRequest:
+    """What ``POST /api/video`` asks: a portrait, a driving video (saved in the job's folder), where to write, the options.
+
+    ``options`` go to :func:`exprclone.drive.prepare` (``method``, ``lambda_k``,
+    ``neutral_frame``, ``mouth``, ``head_motion``, ``smooth``).
+    """
+
+    portrait: Upload
+    video: str
+    output: str
+    progress: str
+    options: dict = field(default_factory=dict)
+    size: int | None = 512
+    side_by_side: bool = False
+    max_pixels: int | None = None
+
+
+def load_models() -> None:
+    """A worker's initializer: load the detector and the eigenface basis now, not on its first request."""
+    from ..pipeline import default_detector, default_eigenfaces
+
+    default_detector()._load()
+    default_eigenfaces()
+    warnings.simplefilter("ignore")  # an odd photo's conversion is not the API's business
+
+
+def ready() -> int:
+    """A task that returns at once: sent to every worker at start-up, so that all exist and have loaded."""
+    return os.getpid()
+
+
+def _image(upload: Upload, max_pixels: int | None) -> np.ndarray:
+    from ..io.images import load_image
+
+    return load_image(upload.content, name=upload.field, max_pixels=max_pixels)
+
+
+def _detected(upload: Upload, image: np.ndarray) -> np.ndarray:
+    """The landmarks of an uploaded photo: remembered, or detected (and remembered)."""
+    from ..pipeline import default_detector
+
+    digest = hashlib.sha256(upload.content).hexdigest()
+    if digest in _seen:
+        _seen.move_to_end(digest)
+    else:
+        _seen[digest] = default_detector().detect(image, upload.field)
+        if len(_seen) > LANDMARK_CACHE:
+            _seen.popitem(last=False)
+    return _seen[digest]
+
+
+def landmarks(upload: Upload, max_pixels: int | None = None) -> dict:
+    """``POST /api/landmarks``: the detected landmarks of a photo and its size, ``{"width", "height", "landmarks"}``."""
+    image = _image(upload, max_pixels)
+    return {"width": image.shape[1], "height": image.shape[0], "landmarks": np.round(_detected(upload, image), 2).tolist()}
+
+
+def _inputs(request: CloneRequest) -> tuple[list[np.ndarray], tuple[np.ndarray, ...]]:
+    """The three photos decoded, and their landmarks: from the landmark file given, else detected."""
+    from ..io.landmarks import parse_landmarks
+
+    images = [_image(p, request.max_pixels) for p in request.photos]
+    points = []
+    for photo, image, given in zip(request.photos, images, request.landmarks):
+        if given is None:
+            points.append(_detected(photo, image))
+        else:
+            text = given.content.decode("utf-8-sig", errors="replace")
+            points.append(parse_landmarks(text, given.extension, image.shape, name=given.field))
+    return images, tuple(points)
+
+
+def clone(request: CloneRequest) -> tuple[bytes, dict]:
+    """``POST /api/clone``: the result as PNG, and its JSON record (:func:`exprclone.io.record.result_record`)."""
+    from ..io.images import encode_image
+    from ..io.record import result_record
+    from ..pipeline import clone as clone_photos
+
+    images, points = _inputs(request)
+    result = clone_photos(*images, method=request.method, lambda_k=request.lambda_k, landmarks=points, mouth=request.mouth)
+    return encode_image(result.image, ".png"), result_record(result, {p.field: p.field for p in request.photos})
+
+
+def compare(request: CloneRequest) -> bytes:
+    """``POST /api/compare``: the sheet of Figs. 11-13 (:func:`exprclone.evaluation.figures.sheet`) as PNG."""
+    from ..evaluation.figures import sheet
+    from ..io.images import encode_image
+    from ..pipeline import clone_methods
+
+    images, points = _inputs(request)
+    results = clone_methods(*images, lambda_k=request.lambda_k, landmarks=points, mouth=request.mouth)
+    return encode_image(sheet(results, images[1]), ".png")
+
+
+def video(request: VideoRequest) -> dict:
+    """``POST /api/video``: the portrait driven by the video, written to ``request.output``, progress to ``request.progress``.
+
+    Returns
+    -------
+    dict
+        ``frames`` written, the ``lambda_k`` used, the ``neutral_frame`` and the ``frames_without_face``.
+    """
+    from .. import drive
+    from ..io import video as video_io
+
+    with naming({request.video: "driving_video", request.output: "result"}):
+        portrait, _ = drive.resize_portrait(_image(request.portrait, request.max_pixels), None, request.size)
+        fps = video_io.probe(request.video).fps
+        recording = drive.prepare(portrait, None, lambda: video_io.read_frames(request.video), float(fps), **request.options)
+        frames = _reporting(recording, video_io.read_frames(request.video), request)
+        written = video_io.write_video(request.output, frames, fps, audio_from=request.video)
+    lam = recording.driver.lambda_k
+    return {
+        "frames": written,
+        "lambda_k": lam if lam is None or isinstance(lam, str) else float(lam),
+        "neutral_frame": recording.neutral_index,
+        "frames_without_face": int((~recording.track.found).sum()),
+    }
+
+
+def _reporting(recording, frames, request: VideoRequest):
+    """The rendered frames, the progress file updated every :data:`PROGRESS_EVERY` of them."""
+    from .. import drive
+    from ..io.images import atomic_write
+
+    total = len(recording.points)
+    for done, f in enumerate(recording.frames(frames), 1):
+        if done % PROGRESS_EVERY == 0 or done == total:
+            report = json.dumps({"done": done, "total": total}).encode()
+            atomic_write(request.progress, lambda out: out.write(report))
+        yield drive.side_by_side(f.driving, f.image) if request.side_by_side else f.image

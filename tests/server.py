@@ -1,0 +1,48 @@
+"""Real servers for the tests: ``exprclone serve`` started on a free port of 127.0.0.1, stopped by its own PID."""
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+
+import httpx
+
+#: seconds a server may take to start (it loads the models in each worker first).
+START_TIMEOUT = 90
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class Server:
+    """``exprclone serve ARGS`` in a process of its own; ``url`` once it answers ``/api/health``."""
+
+    def __init__(self, *args: str) -> None:
+        self.port = free_port()
+        self.url = f"http://127.0.0.1:{self.port}"
+        command = [sys.executable, "-m", "exprclone", "serve", "--port", str(self.port), *args]
+        self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        deadline = time.time() + START_TIMEOUT
+        while time.time() < deadline and self.process.poll() is None:
+            try:
+                if httpx.get(f"{self.url}/api/health", timeout=1).status_code == 200:
+                    return
+            except httpx.TransportError:
+                time.sleep(0.2)
+        self.stop()
+        raise RuntimeError(f"the server did not start: {self.process.stderr.read()}")
+
+    def stop(self) -> tuple[str, str]:
+        """Ctrl-C (SIGINT) to the server's own PID, as a user would stop it; its output."""
+        if self.process.poll() is None:
+            os.kill(self.process.pid, signal.SIGINT)
+        try:
+            return self.process.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            return self.process.communicate()
