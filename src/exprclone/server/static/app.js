@@ -153,6 +153,7 @@ $("#clone").addEventListener("click", async () => {
     delete record.png;
     shown = { result: png, before: URL.createObjectURL(fileOf("target_neutral")) };
     $("#result").src = png;
+    $("#before").src = shown.before;
     $("#toggle").setAttribute("aria-pressed", "false");
     $("#toggle").textContent = "Show before";
     const lambda = record.lambda_k === null ? "" : `, λk = ${record.lambda_k}`;
