@@ -84,6 +84,11 @@ async def page() -> FileResponse:
     return FileResponse(Path(str(resources.files(__package__) / "static" / "index.html")))
 
 
+@router.get("/live", include_in_schema=False)
+async def live_page() -> FileResponse:
+    return FileResponse(Path(str(resources.files(__package__) / "static" / "live.html")))
+
+
 @router.get("/api/health")
 async def health() -> dict:
     """The server is up: ``{"status": "ok", "version": ...}``."""

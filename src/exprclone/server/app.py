@@ -57,6 +57,8 @@ class Settings:
         Seconds a finished job's result is kept.
     video_workers : int
         Processes that run video jobs (apart from the clone workers, so that a long video does not hold up clones).
+    max_live : int
+        Live sessions at once (:mod:`exprclone.server.live`; each runs in a thread of the web process).
     cors : tuple of str
         Origins allowed to call the API from other pages (none by default).
     """
@@ -68,6 +70,7 @@ class Settings:
     max_jobs: int = 8
     job_ttl: float = 3600.0
     video_workers: int = 1
+    max_live: int = 2
     cors: tuple[str, ...] = ()
 
 
@@ -81,6 +84,7 @@ class Work:
         self.jobs = Jobs(self.folder, settings.max_jobs, settings.job_ttl)
         self.pool = self._pool(settings.workers)
         self.video_pool = self._pool(settings.video_workers)
+        self.live_sessions = 0
 
     @staticmethod
     def _pool(workers: int) -> ProcessPoolExecutor:
@@ -152,10 +156,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             app.state.work.close()
 
     from .api import router
+    from .live import router as live_router
 
     app = FastAPI(title="exprclone", version=__version__, lifespan=lifespan, description=(__doc__ or "").split("\n\n")[1])
     add_error_answers(app)
     app.include_router(router)
+    app.include_router(live_router)
     static = Path(str(resources.files(__package__) / "static"))
     app.mount("/static", StaticFiles(directory=static), name="static")
     if settings.cors:
