@@ -7,7 +7,7 @@ const JPEG_QUALITY = 0.8;
 const RATE_SPAN = 1000; // ms over which the frames per second are counted
 
 let socket = null, stream = null, recorder = null;
-let sequence = 0, inFlight = 0, dropped = 0, capturing = false;
+let sequence = 0, inFlight = 0, dropped = 0, capturing = false, fresh = false;
 const sentAt = new Map();
 const shownAt = [], latencies = [];
 
@@ -52,7 +52,9 @@ async function sendMore() {
   if (capturing || !socket || socket.readyState !== WebSocket.OPEN) return;
   capturing = true;
   try {
-    while (inFlight < WINDOW && socket && socket.readyState === WebSocket.OPEN && $("#camera").videoWidth) {
+    // only a new camera frame is sent: never the same one twice
+    while (fresh && inFlight < WINDOW && socket && socket.readyState === WebSocket.OPEN && $("#camera").videoWidth) {
+      fresh = false;
       const message = await grab();
       sentAt.set(sequence, performance.now());
       sequence += 1;
@@ -131,7 +133,14 @@ async function start() {
   socket.onmessage = (event) => (typeof event.data === "string" ? onText(JSON.parse(event.data)) : show(event.data));
   socket.onclose = () => { if (socket) stop("The session ended."); };
   socket.onerror = () => say("live: the server cannot be reached");
-  $("#camera").onloadeddata = () => sendMore();
+  const camera = $("#camera");
+  const onFrame = () => {
+    fresh = true;
+    sendMore();
+    if (stream) camera.requestVideoFrameCallback(onFrame);
+  };
+  if (camera.requestVideoFrameCallback) camera.requestVideoFrameCallback(onFrame);
+  else camera.onloadeddata = () => { const timer = setInterval(() => (stream ? ((fresh = true), sendMore()) : clearInterval(timer)), 40); };
   setRunning(true);
 }
 
