@@ -58,10 +58,9 @@ def main() -> None:
             opening = [np.array([mouth.opening(p, DLIB68) for p in points]) for points in (raw, filtered)]
             lags.append(lag_ms(*opening, fps))
             correlations.append(np.corrcoef(*opening)[0, 1])
-        print(
-            f"{name} | {np.median(jitters):.2f} ({min(jitters):.2f}-{max(jitters):.2f}) | {np.median(lags):.0f} ({min(lags):.0f}-{max(lags):.0f})"
-            f" | {np.median(correlations):.3f}"
-        )
+        jitter = f"{np.median(jitters):.2f} ({min(jitters):.2f}-{max(jitters):.2f})"
+        lag = f"{np.median(lags):.0f} ({min(lags):.0f}-{max(lags):.0f})"
+        print(f"{name} | {jitter} | {lag} | {np.median(correlations):.3f}")
 
 
 if __name__ == "__main__":
