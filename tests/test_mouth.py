@@ -145,8 +145,10 @@ def test_a_squinting_source_has_its_eye_whites_read_on_its_neutral_photo(photo):
     wall = sn[10:110, 10:110].reshape(-1, 3).mean(0) / se[10:110, 10:110].reshape(-1, 3).mean(0)
     squinting = mouth.tone_gain(se, se_lm, mouth.Reference.measure(sn, sn_lm, DLIB68), DLIB68)
     read_open = mouth.tone_gain(se, se_lm, mouth.Reference.measure(sn, sn_lm, DLIB68, (sn, sn_lm)), DLIB68)
-    assert np.abs(np.log(squinting / wall)).min() > 0.4, squinting  # read on the squint, the teeth glare
-    # her face flushes as she smiles, so its median tells the exposure only to about 10%
+    # read on the squint, the teeth glare: the squinting eyes weigh less than open ones
+    # and her skin is a second cue, but the gain is still 40% too strong or more
+    assert np.abs(np.log(squinting / wall)).min() > 0.3, squinting
+    # her face flushes as she smiles, so it tells the exposure only to about 10%
     assert np.abs(np.log(read_open / wall)).max() < 0.15, (read_open, wall)
 
 
