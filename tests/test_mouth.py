@@ -178,3 +178,29 @@ def test_teeth_fade_out_as_the_source_shows_less(open_pair):
     amounts, shown = np.array(amounts), np.array(shown)
     assert shown[0] > mouth.INTERIOR[1] and amounts[-1] == 0  # from all teeth to none
     assert np.abs(np.diff(amounts)).max() < 0.3 * amounts[0]  # each step covers a little, each step fades a little
+
+
+#: an orange light, channel by channel: skin under the GRID studio's lamps keeps about a
+#: third of its blue and three quarters of its green, beside the London studio's.
+ORANGE = np.array([1.0, 0.75, 0.4])
+
+
+def test_an_orange_light_on_the_source_leaves_the_result_unchanged(open_pair, photo):
+    """The source's two photos taken under an orange light: the paste matches the target's light, not the source's."""
+    on, _, se, se_lm, tn, tn_lm = open_pair
+    (sn, sn_lm) = photo("126")
+
+    def orange(image):
+        return np.round(image * ORANGE).astype(np.uint8)
+
+    lit = exprclone.clone(orange(sn), orange(se), tn, method="e+md", landmarks=(sn_lm, se_lm, tn_lm))
+    # the source's teeth are still seen as teeth (an orange light saturates teeth and lips alike)
+    assert lit.mouth_mask is not None and np.allclose(lit.mouth_mask, on.mouth_mask)
+    inside = on.mouth_mask > 0.95
+    difference = lit.image[inside].astype(float) - on.image[inside]
+    assert np.abs(orange(se).astype(float).mean((0, 1)) - se.mean((0, 1))).max() > 50  # the light is strong
+    assert np.abs(difference.mean(0)).max() < 2, difference.mean(0)  # the same colour, to a grey level or two
+    assert np.percentile(np.abs(difference), 99) <= 4
+    # the ERI is a ratio of the source's two photos' luma, in which their light cancels
+    outside = on.mouth_mask == 0
+    assert np.abs(lit.image[outside].astype(float) - on.image[outside]).mean() < 0.5

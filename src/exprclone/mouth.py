@@ -81,7 +81,7 @@ def opening(landmarks: np.ndarray, layout: Layout) -> float:
     return float(area / max(mouth_width(landmarks, layout), 1e-9) ** 2)
 
 
-def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> tuple[np.ndarray, np.ndarray]:
+def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout, gain: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The teeth and the dark cavity inside the inner lips, told from the lips around them.
 
     The lips (between the outer and the inner lip polygons) are the face's own
@@ -89,13 +89,17 @@ def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> tuple[
     a pixel inside the inner-lip polygon is tooth-coloured when paler than the lips
     (saturation in HSV below :data:`TOOTH_SATURATION` times theirs, median) and
     brighter; it is cavity when darker than :data:`CAVITY` times their median luma.
-    Lips, and a tongue, are neither.
+    Lips, and a tongue, are neither. A coloured light saturates teeth and lips alike (an
+    orange one drains their blue), and under a strong one teeth no longer look paler
+    than lips; ``gain`` first takes the photo to another light (:func:`tone_gain`).
 
     Parameters
     ----------
     image : ndarray of shape (H, W, 3), uint8 RGB
     landmarks : ndarray of shape (N, 2)
     layout : Layout
+    gain : ndarray of shape (3,), optional
+        Per-channel gain applied to the photo's colours first.
 
     Returns
     -------
@@ -107,6 +111,8 @@ def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> tuple[
     hi = np.minimum(np.ceil(landmarks[list(layout.mouth_outer)].max(0)).astype(int) + 1, (image.shape[1], image.shape[0]))
     box = (slice(lo[1], hi[1]), slice(lo[0], hi[0]))
     crop = image[box]
+    if gain is not None:
+        crop = np.clip(crop * np.asarray(gain, np.float32) + 0.5, 0, 255).astype(np.uint8)
     inner, outer = np.zeros(crop.shape[:2], np.uint8), np.zeros(crop.shape[:2], np.uint8)
     cv2.fillPoly(inner, [np.round((landmarks[list(layout.mouth_inner)] - lo) * 16).astype(np.int32)], 1, shift=4)
     cv2.fillPoly(outer, [np.round((landmarks[list(layout.mouth_outer)] - lo) * 16).astype(np.int32)], 1, shift=4)
@@ -415,7 +421,8 @@ def fill_interior(
     weight = fade_in(opening(final, layout), OPENING) * fade_in(opening(source_landmarks, layout), OPENING)
     if weight == 0:
         return image, None
-    shown = sum(int(part.sum()) for part in interior(source, source_landmarks, layout))
+    gain = tone_gain(source, source_landmarks, reference, layout)
+    shown = sum(int(part.sum()) for part in interior(source, source_landmarks, layout, gain))
     weight *= fade_in(shown / mouth_width(source_landmarks, layout) ** 2, INTERIOR)
     if weight == 0:
         return image, None
@@ -432,7 +439,7 @@ def fill_interior(
     polygon = np.zeros(patch.shape[:2], np.float32)
     cv2.fillPoly(polygon, [np.round(local[len(layout.mouth_outer) : len(mouth)] * 16).astype(np.int32)], 1.0, shift=4)
 
-    gain = tone_gain(source, source_landmarks, reference, layout, patch[polygon > 0])
+    gain = below_white(gain, patch[polygon > 0])
     patch *= gain
     scale = geometry.interocular(final, layout) / geometry.interocular(source_landmarks, layout)
     patch = match_grain(patch, source, source_landmarks, reference, scale, gain)
