@@ -11,14 +11,16 @@ what lies between them would paste lips.
 
 1. warped from the source's inner-lip polygon to the target's (a piecewise-affine warp
    over the lips and the polygon's centre);
-2. matched to the target photo: its colour is scaled by the ratio of the two photos'
-   eye whites (sclera), the one part of a face that, like teeth, is near white for
-   everyone, so that the photo's exposure and colour cast carry over but not the
-   source's skin tone (:func:`tone_gain`; a smile often squints, so the source's eye
-   whites are best read on its neutral photo), but never so much that teeth the source
-   photo shows unclipped turn flat white; then it is blurred to the target photo's
-   sharpness and given the target photo's noise (:func:`match_grain`), so teeth from a
-   crisp photo do not stand out in a soft or grainy one;
+2. matched to the target photo: its colour is mapped from the source's light to the
+   target's (:func:`tone_gain`, a per-channel gain from :mod:`exprclone.illuminant`: the
+   two photos' skin and eye whites, each cue weighted by how much it shows and how
+   reliable it is), so that the photo's exposure and colour cast carry over but not the
+   source's light: teeth filmed under a warm lamp are not pasted orange into a white-lit
+   portrait. The source's light is read on its neutral photo (a smile often squints)
+   and carried over to the expression by the change of exposure. Never so bright that
+   teeth the source photo shows unclipped turn flat white; then it is blurred to the
+   target photo's sharpness and given the target photo's noise (:func:`match_grain`),
+   so teeth from a crisp photo do not stand out in a soft or grainy one;
 3. blended inside the inner-lip polygon with a feathered edge that ends at the lip line,
    so the target's own lips stay the target's.
 """
@@ -31,7 +33,7 @@ import cv2
 import numpy as np
 from scipy.spatial import Delaunay
 
-from . import geometry, raster, warp
+from . import geometry, illuminant, raster, warp
 from .layout import Layout
 
 #: inner-lip polygon area over the squared mouth width (:func:`opening`): below the first
@@ -59,6 +61,10 @@ EDGE_SHARE = 0.02
 NOISE_SEED = 0
 #: the patch warped from the source reaches this share of the mouth width beyond the lips.
 PATCH_MARGIN = 0.1
+#: the tone match's gain is held within this range, channel by channel: a channel scaled
+#: by 4 has lost 2 of its 8 bits and shows 4 times its noise. The strongest cast of the
+#: GRID clips (lbax4n, lrwp9a, swiz3n: skin with a third of its blue) needs about 3.
+GAIN_RANGE = (0.25, 4.0)
 
 
 def mouth_width(landmarks: np.ndarray, layout: Layout) -> float:
@@ -75,7 +81,7 @@ def opening(landmarks: np.ndarray, layout: Layout) -> float:
     return float(area / max(mouth_width(landmarks, layout), 1e-9) ** 2)
 
 
-def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> tuple[np.ndarray, np.ndarray]:
+def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout, gain: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The teeth and the dark cavity inside the inner lips, told from the lips around them.
 
     The lips (between the outer and the inner lip polygons) are the face's own
@@ -83,13 +89,17 @@ def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> tuple[
     a pixel inside the inner-lip polygon is tooth-coloured when paler than the lips
     (saturation in HSV below :data:`TOOTH_SATURATION` times theirs, median) and
     brighter; it is cavity when darker than :data:`CAVITY` times their median luma.
-    Lips, and a tongue, are neither.
+    Lips, and a tongue, are neither. A coloured light saturates teeth and lips alike (an
+    orange one drains their blue), and under a strong one teeth no longer look paler
+    than lips; ``gain`` first takes the photo to another light (:func:`tone_gain`).
 
     Parameters
     ----------
     image : ndarray of shape (H, W, 3), uint8 RGB
     landmarks : ndarray of shape (N, 2)
     layout : Layout
+    gain : ndarray of shape (3,), optional
+        Per-channel gain applied to the photo's colours first.
 
     Returns
     -------
@@ -99,6 +109,8 @@ def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> tuple[
     cavity = teeth.copy()
     box = geometry.box(landmarks[list(layout.mouth_outer)], image.shape)
     crop, corner = image[box], (box[1].start, box[0].start)
+    if gain is not None:
+        crop = np.clip(crop * np.asarray(gain, np.float32) + 0.5, 0, 255).astype(np.uint8)
     inner, outer = np.zeros(crop.shape[:2], np.uint8), np.zeros(crop.shape[:2], np.uint8)
     raster.fill_polygon(inner, landmarks[list(layout.mouth_inner)] - corner, 1)
     raster.fill_polygon(outer, landmarks[list(layout.mouth_outer)] - corner, 1)
@@ -125,42 +137,36 @@ def fade_in(value: float, band: tuple[float, float]) -> float:
     return float(np.clip((value - low) / (high - low), 0.0, 1.0))
 
 
-def sclera_colour(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> np.ndarray:
-    """Median RGB of the eye whites: the brightest quarter of the pixels inside both eyes."""
-    mask = np.zeros(image.shape[:2], np.uint8)
-    for eye in layout.eyes:
-        cv2.fillPoly(mask, [np.round(landmarks[list(eye)]).astype(np.int32)], 1)
-    pixels = image[mask > 0].astype(np.float32)
-    if len(pixels) < 8:
-        return np.full(3, 200.0, np.float32)
-    luma = raster.luma(pixels)
-    return np.median(pixels[luma >= np.percentile(luma, 75)], axis=0)
-
-
 @dataclass(frozen=True)
 class Reference:
     """What a paste is matched to, measured once for a pair of faces.
 
     The target photo and the source's neutral photo are the same for every expression
-    cloned between two people (every frame of a driving video), so their eye whites,
-    sharpness and noise are measured once; only the expression's own measures change.
+    cloned between two people (every frame of a driving video), so their lights,
+    sharpness and noise are measured once; only the expression's own measures change,
+    and of those the tone match takes only the change of exposure from the neutral
+    face, a brightness: nothing in the colour of the paste changes from frame to frame.
 
     Attributes
     ----------
-    white : ndarray of shape (3,)
-        The target photo's eye whites (:func:`sclera_colour`).
+    light : illuminant.Light
+        The cues to the light on the target photo (:class:`exprclone.illuminant.Light`).
     blur : float
         Its face's edge blur (:func:`blur_sigma` of :func:`face_box`).
     noise : ndarray of shape (3,)
         Its face's noise (:func:`noise_sigma`).
-    source_white, source_face : ndarray of shape (3,) or None
-        The source's neutral photo's eye whites and face median, when it is given.
+    source_light : illuminant.Light or None
+        The same cues on the source's neutral photo, when it is given.
+    source_face : ndarray of shape (3,) or None
+        That photo's face colour (:func:`exprclone.illuminant.midmean` of
+        :func:`face_box`), to carry its light over to an expression photo taken at
+        another exposure.
     """
 
-    white: np.ndarray
+    light: illuminant.Light
     blur: float
     noise: np.ndarray
-    source_white: np.ndarray | None = None
+    source_light: illuminant.Light | None = None
     source_face: np.ndarray | None = None
 
     @classmethod
@@ -177,10 +183,10 @@ class Reference:
         if source_neutral is not None:
             neutral, neutral_landmarks = source_neutral
             source = dict(
-                source_white=sclera_colour(neutral, neutral_landmarks, layout),
-                source_face=np.median(face_box(neutral, neutral_landmarks).reshape(-1, 3), 0),
+                source_light=illuminant.Light.measure(neutral, neutral_landmarks, layout),
+                source_face=illuminant.midmean(face_box(neutral, neutral_landmarks).reshape(-1, 3)),
             )
-        return cls(sclera_colour(target, target_landmarks, layout), blur_sigma(face), noise_sigma(face), **source)
+        return cls(illuminant.Light.measure(target, target_landmarks, layout), blur_sigma(face), noise_sigma(face), **source)
 
 
 def tone_gain(
@@ -190,17 +196,20 @@ def tone_gain(
     layout: Layout,
     pasted: np.ndarray | None = None,
 ) -> np.ndarray:
-    """Per-channel gain that gives the source photo's pixels the target photo's exposure and cast.
+    """Per-channel gain that gives the source photo's pixels the target photo's exposure and light.
 
-    The ratio of the two photos' eye whites (:func:`sclera_colour`), within [0.5, 2],
-    lowered (all channels alike) until the brightest ``pasted`` pixels (99th percentile)
-    stay below white: teeth the source photo shows unclipped never turn flat white.
-    A smiling source often squints, hiding its eye whites behind lashes (on the London
-    Set they read 5% darker in the smile than in the neutral photo at the median, 19%
-    at the 5th percentile, 55% for one person), so when the reference holds the
-    source's neutral photo they are read there and carried over to the expression photo
-    by the ratio of the two photos' face medians (:func:`face_box`): one person's face,
-    so what differs between the medians is the exposure.
+    The gain from the source's light to the target's (:func:`exprclone.illuminant.gain`),
+    within :data:`GAIN_RANGE`, lowered (all channels alike) until the brightest
+    ``pasted`` pixels (99th percentile) stay below white: teeth the source photo shows
+    unclipped never turn flat white. A smiling source often squints, hiding its eye
+    whites behind lashes (on the London Set they read 5% darker in the smile than in the
+    neutral photo at the median, 19% at the 5th percentile, 55% for one person), so when
+    the reference holds the source's neutral photo its light is read there and carried
+    over to the expression photo by the change of exposure: the ratio of the two
+    photos' face colours (:func:`exprclone.illuminant.midmean` of :func:`face_box`;
+    one person's face, so what differs between them is the exposure), as a brightness
+    (the mean of the channels' log ratios). The colour of the light is read once, on
+    the neutral face: in a video, the paste's colour is the same in every frame.
 
     Parameters
     ----------
@@ -216,13 +225,25 @@ def tone_gain(
     -------
     ndarray of shape (3,)
     """
-    if reference.source_white is None:
-        white = sclera_colour(source, source_landmarks, layout)
+    if reference.source_light is None:
+        light = illuminant.Light.measure(source, source_landmarks, layout)
     else:
-        exposure = np.median(face_box(source, source_landmarks).reshape(-1, 3), 0) / np.maximum(reference.source_face, 1.0)
-        white = reference.source_white * exposure
-    gain = np.clip(reference.white / np.maximum(white, 1.0), 0.5, 2.0)
-    if pasted is None or not len(pasted):
+        face = illuminant.midmean(face_box(source, source_landmarks).reshape(-1, 3))
+        exposure = np.log(np.maximum(face, 1.0) / np.maximum(reference.source_face, 1.0)).mean()
+        light = reference.source_light.scaled(np.exp(exposure))
+    gain = np.clip(illuminant.gain(reference.light, light), *GAIN_RANGE)
+    return gain if pasted is None else below_white(gain, pasted)
+
+
+def below_white(gain: np.ndarray, pasted: np.ndarray) -> np.ndarray:
+    """``gain`` lowered, all channels alike, until the brightest ``pasted`` pixels (99th percentile) stay below white.
+
+    Examples
+    --------
+    >>> below_white(np.array([2.0, 2.0, 1.0]), np.array([[100, 150, 200]])).round(2).tolist()
+    [1.7, 1.7, 0.85]
+    """
+    if not len(pasted):
         return gain
     return gain * min(1.0, 255.0 / max(float((gain * np.percentile(pasted, 99, axis=0)).max()), 1.0))
 
@@ -396,7 +417,8 @@ def fill_interior(
     weight = fade_in(opening(final, layout), OPENING) * fade_in(opening(source_landmarks, layout), OPENING)
     if weight == 0:
         return image, None
-    shown = sum(int(part.sum()) for part in interior(source, source_landmarks, layout))
+    gain = tone_gain(source, source_landmarks, reference, layout)
+    shown = sum(int(part.sum()) for part in interior(source, source_landmarks, layout, gain))
     weight *= fade_in(shown / mouth_width(source_landmarks, layout) ** 2, INTERIOR)
     if weight == 0:
         return image, None
@@ -411,7 +433,7 @@ def fill_interior(
     patch = warp.warp(source, src, local, triangles, image[box].shape[:2]).astype(np.float32)
     polygon = raster.fill_polygon(np.zeros(patch.shape[:2], np.float32), local[len(layout.mouth_outer) : len(mouth)], 1.0)
 
-    gain = tone_gain(source, source_landmarks, reference, layout, patch[polygon > 0])
+    gain = below_white(gain, patch[polygon > 0])
     patch *= gain
     scale = geometry.interocular(final, layout) / geometry.interocular(source_landmarks, layout)
     patch = match_grain(patch, source, source_landmarks, reference, scale, gain)

@@ -1,0 +1,421 @@
+"""Colour cast of the pasted mouth interior (and of the ERI), on GRID clips and on London stills.
+
+    python tools/colour_check.py [--data ../shared/data] [--portraits 003 025 005 064] [--size 512]
+                                 [--clips lbax4n ...] [--stills 60] [--cast R G B] [--ref REV]
+    python tools/colour_check.py --strip OUT.jpg [--ref REV] [--strip-pairs lbax4n:003 lrwp9a:025]
+    python tools/colour_check.py --spread [--data ../shared/data]
+
+The measure. The *relation* of a face is the CIELAB (a*, b*) of the brightest 30% of
+the pixels inside its inner lips (teeth, and the lit part of the cavity) minus the
+(a*, b*) of its cheeks (two discs below the eyes). A right transfer gives the output the
+driver's relation, whatever the two lights; pasting the driver's interior with the
+driver's light does not. For every open-mouth frame (the paste's weight at least
+:data:`OPEN_WEIGHT`) the distance between the driver's relation (driving frame, its
+landmarks) and the output's (output frame, its final landmarks) is taken; each clip and
+portrait reports its mean over those frames.
+
+- Videos: every GRID clip drives each portrait (scaled to ``--size``, neutral frame
+  "closed", e+md). Each row also gives the ERI check: the shift of the (a*, b*) of the
+  output's cheeks and nasolabial folds from the portrait's own (mean over all frames), and
+  for scale the driver's cast, the distance between the (a*, b*) of the driver's cheeks
+  and of the portrait's.
+- Stills: the first ``--stills`` ordered London pairs (seed 0) whose e+md clone has an
+  open mouth; the mean distance as above, the source's smile photo being the driver.
+  Also the teeth brightness: on those pairs where the source's smile and the target's
+  real smile both show teeth (:data:`TEETH_SHOWN`) and the paste is whole somewhere
+  (:data:`WHOLE`), the log ratio of the pasted interior's brightness (the median luma
+  of the brightest 30% where the paste is whole) to the target's own real smile's (the
+  same inside its inner lips), rms over the pairs: in one studio, the target's real
+  teeth are the right brightness.
+
+``--cast R G B`` also clones the stills with the source's two photos multiplied by that
+light (the synthetic cast of ``tests/test_mouth.py``, on every pair): it prints the
+relation distance with the cast smile as the driver, the distance that a transfer
+undoing the cast exactly would score (the uncast clone against the cast driver: the
+relation in CIELAB is not kept by a change of light, so a strong cast moves it even
+when nothing else changes), and how much the paste changed.
+
+``--spread`` prints the between-people spread of the cues to the light
+(:mod:`exprclone.illuminant`) on the London neutral photos, one studio and one light:
+``SKIN_SPREAD`` and ``SCLERA_SPREAD``.
+
+``--ref REV`` measures the code of a commit instead of the working tree (its ``src``
+exported by ``git archive`` to a temporary folder). ``--strip OUT.jpg`` writes, for
+the :data:`STRIP_ROWS` most open mouths of each ``CLIP:PORTRAIT`` pair, mouth crops of
+the driving frame, of the output of ``REV`` (with ``--ref``) and of the output of the
+working tree, side by side: a before/after figure.
+
+exprclone is imported inside the functions: with ``--ref`` the tool runs on an older
+tree, which lacks the newer modules.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+#: share of the pixels inside the inner lips, the brightest, that stand for the interior.
+BRIGHTEST = 0.30
+#: a frame's mouth is open when the pasted interior's weight reaches this.
+OPEN_WEIGHT = 0.5
+#: cheek discs: centre below each eye's centre, and radius, in outer-eye-corner distances.
+CHEEK_DROP, CHEEK_RADIUS = 0.35, 0.10
+#: fold discs: centre beside the middle of nose wing and mouth corner, and radius.
+FOLD_SIDE, FOLD_RADIUS = 0.06, 0.07
+#: the pasted interior is whole where its weight reaches this.
+WHOLE = 0.9
+#: teeth show from this area, in squared mouth widths (as ``exprclone.evaluation.TEETH_SHOWN``).
+TEETH_SHOWN = 0.004
+#: frames in a strip (``--strip``), the default pairs shown, and the crops' size in pixels.
+STRIP_ROWS, STRIP_PAIRS, CROP = 5, ("lbax4n:003", "lrwp9a:025"), 96
+#: fewest frames between two frames of a strip.
+STRIP_SPACING = 4
+#: the default portraits, four skin tones: 003 (white, pale), 025 (black), 005 (East
+#: Asian), 064 (West Asian).
+PORTRAITS = ("003", "025", "005", "064")
+
+
+def lab_ab(pixels: np.ndarray) -> np.ndarray:
+    """CIELAB (a*, b*) of uint8 sRGB pixels ``(K, 3)`` (D65), ``(K, 2)``."""
+    lab = cv2.cvtColor(pixels.reshape(-1, 1, 3).astype(np.float32) / 255.0, cv2.COLOR_RGB2LAB)
+    return lab.reshape(-1, 3)[:, 1:]
+
+
+def discs(shape: tuple[int, ...], centres: np.ndarray, radius: float) -> np.ndarray:
+    """Boolean mask of filled discs."""
+    mask = np.zeros(shape[:2], np.uint8)
+    for c in centres:
+        cv2.circle(mask, (int(round(c[0])), int(round(c[1]))), max(1, int(round(radius))), 1, -1)
+    return mask > 0
+
+
+def regions(shape: tuple[int, ...], landmarks: np.ndarray) -> dict[str, np.ndarray]:
+    """Masks of the cheeks (below the eyes) and of the nasolabial folds, lips left out."""
+    from exprclone import geometry
+    from exprclone.layout import DLIB68
+
+    iod = geometry.interocular(landmarks, DLIB68)
+    right, down = geometry.face_axes(landmarks, DLIB68)
+    eyes = np.array([landmarks[list(eye)].mean(0) for eye in DLIB68.eyes])
+    folds = np.array(
+        [(landmarks[31] + landmarks[48]) / 2 - FOLD_SIDE * iod * right, (landmarks[35] + landmarks[54]) / 2 + FOLD_SIDE * iod * right]
+    )
+    lips = np.zeros(shape[:2], np.uint8)
+    cv2.fillPoly(lips, [np.round(landmarks[list(DLIB68.mouth_outer)]).astype(np.int32)], 1)
+    return {
+        "cheeks": discs(shape, eyes + CHEEK_DROP * iod * down, CHEEK_RADIUS * iod) & (lips == 0),
+        "folds": discs(shape, folds, FOLD_RADIUS * iod) & (lips == 0),
+    }
+
+
+def interior_ab(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
+    """Mean (a*, b*) of the brightest :data:`BRIGHTEST` of the pixels inside the inner lips."""
+    from exprclone.layout import DLIB68
+
+    inner = np.zeros(image.shape[:2], np.uint8)
+    cv2.fillPoly(inner, [np.round(landmarks[list(DLIB68.mouth_inner)]).astype(np.int32)], 1)
+    pixels = image[inner > 0]
+    luma = pixels.astype(np.float32) @ np.array([0.299, 0.587, 0.114], np.float32)
+    return lab_ab(pixels[luma >= np.percentile(luma, 100 * (1 - BRIGHTEST))]).mean(0)
+
+
+def relation(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
+    """The interior's (a*, b*) minus the cheeks' (:func:`interior_ab`, :func:`regions`)."""
+    return interior_ab(image, landmarks) - lab_ab(image[regions(image.shape, landmarks)["cheeks"]]).mean(0)
+
+
+def load_image(path):
+    """exprclone's image reader, wherever this version of the code keeps it."""
+    try:
+        from exprclone.io.images import load_image as load
+    except ImportError:  # before the io/ subpackage
+        from exprclone.images import load_image as load
+    return load(path)
+
+
+def driven(portrait: np.ndarray, portrait_points: np.ndarray | None, clip: Path):
+    """The portrait driven by a clip (neutral frame: the most closed mouth): ``(points, frames)``, whatever the code's version.
+
+    ``frames`` yields objects with ``index``, ``driving``, ``image`` and ``result``.
+    """
+    try:
+        from exprclone import drive
+        from exprclone.io.video import probe, read_frames
+    except ImportError:  # before drive.py: video.Driver read the file itself
+        from exprclone import video
+
+        driver = video.Driver(portrait, portrait_points, str(clip), neutral_frame="closed")
+        return driver.points, driver.frames()
+    recording = drive.prepare(portrait, portrait_points, lambda: read_frames(clip), float(probe(clip).fps), neutral_frame="closed")
+    return recording.points, recording.frames(read_frames(clip))
+
+
+def resize_portrait(image: np.ndarray, size: int) -> np.ndarray:
+    try:
+        from exprclone.drive import resize_portrait as resize
+    except ImportError:
+        from exprclone.video import resize_portrait as resize
+    return resize(image, None, size)[0]
+
+
+def pasted(result) -> bool:
+    """Whether a clone shows a pasted interior of weight :data:`OPEN_WEIGHT` or more."""
+    return result.mouth_mask is not None and float(result.mouth_mask.max()) >= OPEN_WEIGHT
+
+
+def drive(clip: Path, portrait: np.ndarray, portrait_points: np.ndarray) -> dict:
+    """One clip driving one portrait: the relation distance, the ERI shift and the driver's cast."""
+    points_of, frames = driven(portrait, portrait_points, clip)
+    target = regions(portrait.shape, portrait_points)
+    target_ab = {k: lab_ab(portrait[m]).mean(0) for k, m in target.items()}
+    distances, shifts, casts = [], [], []
+    for f in frames:
+        final, points = f.result.landmarks["final"], points_of[f.index]
+        out = regions(f.image.shape, final)
+        shifts.append(np.mean([np.linalg.norm(lab_ab(f.image[out[k]]).mean(0) - target_ab[k]) for k in out]))
+        casts.append(np.linalg.norm(lab_ab(f.driving[regions(f.driving.shape, points)["cheeks"]]).mean(0) - target_ab["cheeks"]))
+        if pasted(f.result):
+            distances.append(np.linalg.norm(relation(f.driving, points) - relation(f.image, final)))
+    return {
+        "distance": np.mean(distances) if distances else np.nan,
+        "open": len(distances),
+        "frames": len(shifts),
+        "eri_shift": float(np.mean(shifts)),
+        "cast": float(np.mean(casts)),
+    }
+
+
+def mouth_crop(image: np.ndarray, landmarks: np.ndarray, size: int = CROP) -> np.ndarray:
+    """A square crop around the mouth (1.6 mouth widths), ``size`` pixels."""
+    from exprclone.layout import DLIB68
+
+    outer = landmarks[list(DLIB68.mouth_outer)]
+    centre, half = outer.mean(0), 0.8 * np.ptp(outer[:, 0])
+    m = np.array(
+        [[size / (2 * half), 0, size / 2 - centre[0] * size / (2 * half)], [0, size / (2 * half), size / 2 - centre[1] * size / (2 * half)]]
+    )
+    return cv2.warpAffine(image, m, (size, size), flags=cv2.INTER_AREA, borderMode=cv2.BORDER_REPLICATE)
+
+
+def strip_crops(data: Path, pairs: list[str], size: int) -> np.ndarray:
+    """Mouth crops (driver, output) of :data:`STRIP_ROWS` frames of each ``CLIP:PORTRAIT`` pair, ``(rows, pairs, 2, h, w, 3)``.
+
+    The frames are those whose driving mouth is the most open (``mouth.opening``), at
+    least :data:`STRIP_SPACING` frames apart, told by the tracked landmarks alone, so
+    that every version of the code shows the same frames.
+    """
+    from exprclone import mouth
+    from exprclone.layout import DLIB68
+
+    columns = []
+    for pair in pairs:
+        clip, face = pair.split(":")
+        portrait = resize_portrait(load_image(data / "london/neutral_front" / f"{face}_03.jpg"), size)
+        points_of, frames = driven(portrait, None, data / "grid" / f"{clip}.mpg")
+        chosen: list[int] = []
+        for i in np.argsort([-mouth.opening(p, DLIB68) for p in points_of], kind="stable"):
+            if len(chosen) < STRIP_ROWS and all(abs(int(i) - j) >= STRIP_SPACING for j in chosen):
+                chosen.append(int(i))
+        columns.append(
+            [
+                (mouth_crop(f.driving, points_of[f.index]), mouth_crop(f.image, f.result.landmarks["final"]))
+                for f in frames
+                if f.index in chosen
+            ]
+        )
+    return np.array(columns).transpose(1, 0, 2, 3, 4, 5)
+
+
+def stills(data: Path, wanted: int, cast: np.ndarray | None = None) -> dict:
+    """The first ``wanted`` seed-0 London pairs with an open mouth: relation distances and teeth brightness errors.
+
+    With ``cast`` (per-channel factors) each pair is also cloned with the source's two
+    photos under that light, and the result holds, per pair: the relation distance with
+    the cast source's smile as the driver (``cast_distances``); the same against the
+    uncast clone, the score of a transfer that undid the cast exactly
+    (``perfect_distances``); and the mean absolute change of the whole paste, per channel
+    (``changes``).
+    """
+    import exprclone
+    from exprclone.layout import DLIB68
+    from exprclone.mouth import interior, mouth_width
+    from exprclone.pipeline import default_detector
+
+    london = data / "london"
+    ids = sorted(p.name[:3] for p in (london / "neutral_front").glob("*_03.jpg"))
+    every = [(a, b) for a in ids for b in ids if a != b]
+    detector, cache = default_detector(), {}
+
+    def photo(face: str, smile: bool):
+        if (face, smile) not in cache:
+            image = load_image(london / ("smiling_front" if smile else "neutral_front") / f"{face}_{'08' if smile else '03'}.jpg")
+            cache[face, smile] = image, detector.detect(image)
+        return cache[face, smile]
+
+    def shows_teeth(image, points):
+        return interior(image, points, DLIB68)[0].sum() / mouth_width(points, DLIB68) ** 2 >= TEETH_SHOWN
+
+    def brightest_luma(pixels):
+        luma = pixels.astype(np.float32) @ np.array([0.299, 0.587, 0.114], np.float32)
+        return float(np.median(luma[luma >= np.percentile(luma, 100 * (1 - BRIGHTEST))]))
+
+    distances, brightness, cast_distances, perfect_distances, changes = [], [], [], [], []
+    for i in np.random.default_rng(0).permutation(len(every)):
+        if len(distances) == wanted:
+            break
+        a, b = every[i]
+        (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo(a, False), photo(a, True), photo(b, False)
+        r = exprclone.clone(sn, se, tn, method="e+md", landmarks=(sn_lm, se_lm, tn_lm))
+        if not pasted(r):
+            continue
+        distances.append(np.linalg.norm(relation(se, se_lm) - relation(r.image, r.landmarks["final"])))
+        real, real_lm = photo(b, True)
+        if r.mouth_mask.max() >= WHOLE and shows_teeth(se, se_lm) and shows_teeth(real, real_lm):
+            real_inside = np.zeros(real.shape[:2], np.uint8)
+            cv2.fillPoly(real_inside, [np.round(real_lm[list(DLIB68.mouth_inner)]).astype(np.int32)], 1)
+            brightness.append(np.log(brightest_luma(r.image[r.mouth_mask >= WHOLE]) / brightest_luma(real[real_inside > 0])))
+        if cast is not None:
+            lit = [np.round(im * cast).astype(np.uint8) for im in (sn, se)]
+            c = exprclone.clone(*lit, tn, method="e+md", landmarks=(sn_lm, se_lm, tn_lm))
+            driver = relation(lit[1], se_lm)
+            perfect_distances.append(np.linalg.norm(driver - relation(r.image, r.landmarks["final"])))
+            whole = r.mouth_mask >= WHOLE * r.mouth_mask.max()
+            changes.append(np.abs(c.image[whole].astype(float) - r.image[whole]).mean(0))
+            cast_distances.append(np.linalg.norm(driver - relation(c.image, c.landmarks["final"])) if pasted(c) else np.nan)
+    return {
+        "distances": np.array(distances),
+        "brightness": np.array(brightness),
+        "cast_distances": np.array(cast_distances),
+        "perfect_distances": np.array(perfect_distances),
+        "changes": np.array(changes),
+    }
+
+
+def spread(data: Path) -> None:
+    """Print the standard deviation over the London neutral photos of each cue's log brightness and log colour."""
+    from exprclone import illuminant
+    from exprclone.layout import DLIB68
+    from exprclone.pipeline import default_detector
+
+    detector, colours = default_detector(), []
+    for path in sorted((data / "london" / "neutral_front").glob("*_03.jpg")):
+        image = load_image(path)
+        colours.append(illuminant.Light.measure(image, detector.detect(image), DLIB68).log_colour)
+    brightness, colour = illuminant.split(np.array(colours))
+    for i, name in enumerate(("SKIN_SPREAD", "SCLERA_SPREAD")):
+        print(f"{name} = ({brightness[:, i].std():.3f}, {np.sqrt(colour[:, i].var(0).sum() / 2):.3f})  # {len(colours)} photos")
+
+
+def report_stills(s: dict, cast: list[float] | None) -> None:
+    """Print the figures of :func:`stills`."""
+    d, b = s["distances"], s["brightness"]
+    print(f"stills: relation distance mean {d.mean():.1f} (median {np.median(d):.1f}) on {len(d)} pairs")
+    print(f"stills: teeth log brightness error {np.sqrt(np.mean(b**2)):.3f} rms, mean {b.mean():+.3f}, on {len(b)} pairs")
+    if cast:
+        c, perfect, changes = s["cast_distances"], s["perfect_distances"], s["changes"]
+        lost = f"paste lost in {np.isnan(c).sum()} of {len(c)} pairs"
+        print(f"cast {cast}: relation distance mean {np.nanmean(c):.1f} (median {np.nanmedian(c):.1f}), {lost}")
+        print(f"cast {cast}: a transfer that undid the cast exactly would score {perfect.mean():.1f} (median {np.median(perfect):.1f})")
+        print(f"cast {cast}: the paste changed by {changes.mean(0).round(1).tolist()} grey levels (R, G, B; mean absolute), ", end="")
+        print(f"at most {changes.mean(1).max():.1f} in a pair")
+
+
+def run_at(ref: str, arguments: list[str]) -> int:
+    """Run this tool with ``arguments`` on the code of commit ``ref`` (its ``src`` exported to a temporary folder)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", ref, "src"], check=True, capture_output=True).stdout
+        subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
+        return subprocess.run([sys.executable, __file__, *arguments], env=dict(os.environ, PYTHONPATH=str(Path(tmp) / "src"))).returncode
+
+
+def write_strip(args: argparse.Namespace) -> int:
+    """``--strip``: the driving frames' mouths, the outputs of ``--ref`` (if given) and of the working tree, side by side."""
+    after = strip_crops(args.data, args.strip_pairs, args.size)
+    columns = [after[:, :, 0]]
+    if args.ref:
+        with tempfile.TemporaryDirectory() as tmp:
+            before = Path(tmp) / "before.npy"
+            common = ["--data", str(args.data), "--size", str(args.size), "--strip-pairs", *args.strip_pairs]
+            if run_at(args.ref, ["--crops-to", str(before), *common]):
+                return 1
+            columns.append(np.load(before)[:, :, 1])
+    columns.append(after[:, :, 1])
+    rows, pairs = after.shape[:2]
+    gap = np.full((CROP, CROP // 8, 3), 255, np.uint8)
+    strip = np.vstack(
+        [np.hstack([np.hstack([c[r, p] for c in columns] + [gap]) for p in range(pairs)])[:, : -gap.shape[1]] for r in range(rows)]
+    )
+    cv2.imwrite(args.strip, cv2.cvtColor(strip, cv2.COLOR_RGB2BGR), [cv2.IMWRITE_JPEG_QUALITY, 90])
+    return 0
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", ROOT.parent / "shared" / "data")))
+    parser.add_argument("--portraits", nargs="*", default=list(PORTRAITS))
+    parser.add_argument("--clips", nargs="*", help="clip names (default: every clip in DATA/grid)")
+    parser.add_argument("--size", type=int, default=512)
+    parser.add_argument("--stills", type=int, default=60, help="open-mouth London pairs (0: none)")
+    parser.add_argument(
+        "--cast", type=float, nargs=3, metavar=("R", "G", "B"), help="also clone the stills with the source's photos under this light"
+    )
+    parser.add_argument("--ref", help="a git commit to measure instead of the working tree")
+    parser.add_argument("--spread", action="store_true", help="print the spread of the cues to the light on the London Set, and stop")
+    parser.add_argument("--strip", help="write driver | REV's output | output mouth crops of the --strip-pairs here, and stop")
+    parser.add_argument("--strip-pairs", nargs="*", default=list(STRIP_PAIRS), metavar="CLIP:PORTRAIT")
+    parser.add_argument("--crops-to", help=argparse.SUPPRESS)  # internal: --strip's crops, as .npy, by the code of --ref
+    args = parser.parse_args()
+    if args.crops_to:
+        np.save(args.crops_to, strip_crops(args.data, args.strip_pairs, args.size))
+        return 0
+    if args.strip:
+        return write_strip(args)
+    if args.ref:
+        return run_at(args.ref, [a for a in sys.argv[1:] if a != args.ref and a != "--ref" and not a.startswith("--ref=")])
+
+    if args.spread:
+        spread(args.data)
+        return 0
+    from exprclone.pipeline import default_detector
+
+    clips = [args.data / "grid" / f"{c}.mpg" for c in args.clips] if args.clips else sorted((args.data / "grid").glob("*.mpg"))
+    detector, rows = default_detector(), []
+    if clips and args.portraits:
+        print("clip | portrait | open frames | relation distance | ERI shift (cheeks, folds) | driver's cast")
+        print("---|---|---|---|---|---")
+    for face in args.portraits:
+        portrait = resize_portrait(load_image(args.data / "london/neutral_front" / f"{face}_03.jpg"), args.size)
+        points = detector.detect(portrait)
+        for clip in clips:
+            row = drive(clip, portrait, points)
+            rows.append(row)
+            cells = [
+                clip.stem,
+                face,
+                f"{row['open']}/{row['frames']}",
+                f"{row['distance']:.1f}",
+                f"{row['eri_shift']:.1f}",
+                f"{row['cast']:.1f}",
+            ]
+            print(" | ".join(cells), flush=True)
+    if rows:
+        d = np.array([r["distance"] for r in rows])
+        shift = [r["eri_shift"] for r in rows]
+        print(f"\nvideos: relation distance mean {np.nanmean(d):.1f}, max {np.nanmax(d):.1f}", end="")
+        print(f"; at most 8 in {np.sum(d <= 8)} of {np.sum(np.isfinite(d))}")
+        print(f"ERI shift mean {np.mean(shift):.2f}, max {np.max(shift):.2f}")
+    if args.stills:
+        report_stills(stills(args.data, args.stills, None if args.cast is None else np.array(args.cast)), args.cast)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
