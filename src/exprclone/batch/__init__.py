@@ -1,1 +1,2 @@
-"""Many clones at once, on all cores or on a Dask cluster (``exprclone batch``): to come."""
+"""Many clones in one run (``exprclone batch``): :mod:`.manifest` (what to do), :mod:`.job` (how: each photo detected
+once, rows sharing faces prepared once, on local processes or a Dask cluster), :mod:`.work` (the tasks a worker runs)."""

@@ -32,7 +32,7 @@ def run(args: argparse.Namespace) -> None:
     from ..evaluation.report import run as score
     from ..evaluation.report import summarise, table, write_report
     from ..methods import METHODS, lookup
-    from .progress import Bar
+    from ..progress import Bar
 
     with_methods = METHODS if args.methods == "all" else tuple(m.strip() for m in args.methods.split(","))
     try:

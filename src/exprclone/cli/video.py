@@ -80,7 +80,7 @@ def prepare(args: argparse.Namespace, inputs: list[str]):
 def run(args: argparse.Namespace) -> None:
     from ..drive import side_by_side
     from ..io import video as video_io
-    from .progress import Bar
+    from ..progress import Bar
 
     inputs = [p for p in (args.target_neutral, args.driving_video, args.source_neutral) if p]
     info, recording = prepare(args, inputs)

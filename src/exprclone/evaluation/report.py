@@ -36,6 +36,7 @@ from ..io.images import load_image, save_image
 from ..layout import DLIB68
 from ..mouth import mouth_width
 from ..pipeline import clone_methods, default_detector
+from ..progress import Quiet
 from .london import Dataset
 from .scores import SAME_PERSON, TEETH_SHOWN, FaceDescriptor, identity_distance, landmark_error, teeth
 
@@ -135,16 +136,6 @@ def _score(args):
     return score_pair(*args)
 
 
-class Quiet:
-    """A progress display that shows nothing (see :func:`run`)."""
-
-    def __init__(self, total: int, what: str) -> None:
-        pass
-
-    def update(self, done: int, note: str = "") -> None:
-        pass
-
-
 def run(
     data: Dataset, pairs: list[tuple[str, str]], methods: tuple[str, ...], jobs: int = 1, progress: Callable = Quiet
 ) -> tuple[list[dict], dict]:
@@ -152,7 +143,7 @@ def run(
 
     ``progress(total, what)`` makes a display of how many of ``total``
     things are done, with a method ``update(done, note)`` (as
-    :class:`exprclone.cli.progress.Bar`): one for the photos' landmarks, one for the pairs.
+    :class:`exprclone.progress.Bar`): one for the photos' landmarks, one for the pairs.
 
     Returns
     -------

@@ -1,4 +1,8 @@
-"""A one-line text progress bar for long jobs (evaluation, video), redrawn in place."""
+"""Progress displays for long jobs (evaluate, video, batch): a one-line text bar redrawn in place, or nothing.
+
+A job takes ``progress(total, what)``, which makes a display with ``update(done, note)``:
+:class:`Bar` on the command line, :class:`Quiet` when nobody watches.
+"""
 
 from __future__ import annotations
 
@@ -52,3 +56,13 @@ class Bar:
         if done >= self.total:
             self.stream.write("\n")
         self.stream.flush()
+
+
+class Quiet:
+    """A progress display that shows nothing."""
+
+    def __init__(self, total: int = 0, what: str = "") -> None:
+        pass
+
+    def update(self, done: int, note: str = "") -> None:
+        pass

@@ -1,0 +1,205 @@
+"""A batch job: the rows to do, each distinct photo's landmarks found once, the clones in tasks, a report.
+
+1. Rows whose output exists are skipped (unless ``overwrite``): a job interrupted and run
+   again does only what is left.
+2. Each distinct photo (by content: the SHA-256 of its bytes) is detected once, however
+   many rows use it; with a cache folder its landmarks persist between runs.
+3. Rows that share a source's neutral photo and a target go together, so the work that
+   depends on the two neutral faces (:class:`exprclone.pipeline.Cloner`) is done once.
+
+The tasks run on a :class:`Local` pool of processes or on a Dask cluster (:class:`Dask`);
+either way one bad row never stops the job, and the report has one row per manifest row.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import hashlib
+import json
+import multiprocessing
+import os
+import signal
+import time
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+
+import numpy as np
+
+from ..progress import Quiet
+from . import work
+from .manifest import Row
+
+#: photos detected per task.
+DETECT_CHUNK = 8
+#: rows cloned per task at most (smaller tasks balance the workers and stop sooner after Ctrl-C).
+CLONE_CHUNK = 4
+#: the report's columns.
+REPORT = ("row", "source_neutral", "source_expression", "target_neutral", "output", "status", "error", "lambda_k", "seconds")
+
+
+def _ignore_interrupt() -> None:
+    """A worker lets the job's process handle Ctrl-C: it finishes the row under way, and writes no half file."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class Local:
+    """Tasks on ``jobs`` worker processes of this machine (in this process for one job)."""
+
+    def __init__(self, jobs: int) -> None:
+        self.jobs = jobs
+
+    @contextlib.contextmanager
+    def running(self) -> Iterator[Callable[[Callable, list], Iterator]]:
+        """``map(function, items)``: results as they come, as ``(index, result)``."""
+        if self.jobs == 1:
+            yield lambda function, items: ((k, function(item)) for k, item in enumerate(items))
+            return
+        pool = ProcessPoolExecutor(self.jobs, mp_context=multiprocessing.get_context("fork"), initializer=_ignore_interrupt)
+        try:
+            yield lambda function, items: _completed({pool.submit(function, item): k for k, item in enumerate(items)})
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _completed(futures: dict) -> Iterator:
+    for future in as_completed(futures):
+        yield futures[future], future.result()
+
+
+class Dask:
+    """Tasks on a Dask distributed cluster (``distributed.Client``); its workers need exprclone and the files at the same paths."""
+
+    def __init__(self, scheduler: str) -> None:
+        self.scheduler = scheduler
+
+    @contextlib.contextmanager
+    def running(self) -> Iterator[Callable[[Callable, list], Iterator]]:
+        from distributed import Client, as_completed
+
+        with Client(self.scheduler) as client:
+            submitted: list = []
+
+            def map_(function, items):
+                futures = client.map(function, items, pure=False)
+                submitted.extend(futures)
+                index = {future.key: k for k, future in enumerate(futures)}
+                return ((index[f.key], f.result()) for f in as_completed(futures))
+
+            try:
+                yield map_
+            finally:
+                client.cancel(submitted)
+
+
+def fingerprint(path: str) -> str | None:
+    """The SHA-256 of a file's bytes (None if it cannot be read)."""
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
+def find_landmarks(photos: Iterable[str], run: Callable, cache: Path | None, progress) -> tuple[dict, dict]:
+    """Every photo's landmarks, each distinct content detected once (or read from ``cache``).
+
+    Returns
+    -------
+    landmarks : dict of path to ndarray
+    problems : dict of path to str
+        Why a photo has none (no such file, not an image, no face).
+    """
+    digests = {p: fingerprint(p) for p in dict.fromkeys(photos)}
+    problems = {p: "no such file, or it cannot be read" for p, d in digests.items() if d is None}
+    found = {d: _cached(cache, d) for d in set(digests.values()) - {None}}
+    missing = sorted(d for d, points in found.items() if points is None)
+    first_path = {d: p for p, d in reversed(digests.items()) if d is not None}
+    chunks = [missing[k : k + DETECT_CHUNK] for k in range(0, len(missing), DETECT_CHUNK)]
+    bar, done = progress(len(missing), "photos"), 0
+    for k, results in run(work.detect, [[first_path[d] for d in chunk] for chunk in chunks]):
+        for digest, (points, problem) in zip(chunks[k], results):
+            found[digest] = points if points is not None else problem
+            if cache is not None and points is not None:
+                (cache / f"{digest}.json").write_text(json.dumps({"landmarks": points.tolist()}))
+        done += len(chunks[k])
+        bar.update(done)
+    landmarks = {p: found[d] for p, d in digests.items() if d is not None and isinstance(found[d], np.ndarray)}
+    problems.update({p: found[d] for p, d in digests.items() if d is not None and isinstance(found[d], str)})
+    return landmarks, problems
+
+
+def _cached(cache: Path | None, digest: str) -> np.ndarray | None:
+    path = None if cache is None else cache / f"{digest}.json"
+    return None if path is None or not path.is_file() else np.array(json.loads(path.read_text())["landmarks"], float)
+
+
+def make_tasks(rows: list[Row], landmarks: dict, options: work.Options) -> list[work.Task]:
+    """Rows grouped by source neutral photo and target, in tasks of at most :data:`CLONE_CHUNK` rows."""
+    groups: dict[tuple[str, str], list[Row]] = {}
+    for row in rows:
+        groups.setdefault((row.source_neutral, row.target_neutral), []).append(row)
+    tasks = []
+    for group in groups.values():
+        for k in range(0, len(group), CLONE_CHUNK):
+            chunk = tuple(group[k : k + CLONE_CHUNK])
+            tasks.append(work.Task(chunk, {p: landmarks[p] for row in chunk for p in row.photos}, options))
+    return tasks
+
+
+def run(
+    rows: list[Row], options: work.Options, backend, outcomes: dict, *, overwrite: bool = False, cache: Path | None = None, progress=Quiet
+) -> None:
+    """Do the job, recording the outcome of every row in ``outcomes`` by its number (skipped, done or failed) as it comes.
+
+    ``progress(total, what)`` makes a display with ``update(done, note)`` (:class:`exprclone.progress.Bar`).
+    After Ctrl-C, ``outcomes`` holds what finished.
+    """
+    outcomes.update({row.number: work.Outcome(row.number, "skipped") for row in rows if not overwrite and os.path.exists(row.output)})
+    to_do = [row for row in rows if row.number not in outcomes]
+    for row in to_do:
+        os.makedirs(os.path.dirname(row.output), exist_ok=True)
+    if cache is not None:
+        cache.mkdir(parents=True, exist_ok=True)
+    with backend.running() as map_:
+        landmarks, problems = find_landmarks((p for row in to_do for p in row.photos), map_, cache, progress)
+        ready = []
+        for row in to_do:
+            bad = next((p for p in row.photos if p in problems), None)
+            if bad is None:
+                ready.append(row)
+            else:
+                outcomes[row.number] = work.Outcome(row.number, "failed", f"{bad}: {problems[bad]}")
+        _clone(make_tasks(ready, landmarks, options), map_, outcomes, progress(len(ready), "pairs"))
+
+
+def _clone(tasks: list[work.Task], map_: Callable, outcomes: dict, bar) -> None:
+    """Run the clone tasks, recording each row's outcome as it comes (so that Ctrl-C keeps what finished)."""
+    start, done, failed = time.perf_counter(), 0, 0
+    total = sum(len(t.rows) for t in tasks)
+    for _, results in map_(work.clone_rows, tasks):
+        for outcome in results:
+            outcomes[outcome.number] = outcome
+            done, failed = done + 1, failed + (outcome.status == "failed")
+        rate = done / max(time.perf_counter() - start, 1e-9)
+        bar.update(done, f"{failed} failed, {rate:.1f}/s, {max(total - done, 0) / rate:.0f} s left")
+
+
+def write_report(path: str, rows: list[Row], outcomes: dict) -> None:
+    """The report: one CSV row per manifest row (rows not reached, after Ctrl-C, say ``not run``)."""
+    from ..io.images import atomic_write
+
+    def lines(f):
+        import io
+
+        text = io.TextIOWrapper(f, encoding="utf-8", newline="")
+        writer = csv.writer(text)
+        writer.writerow(REPORT)
+        for row in rows:
+            o = outcomes.get(row.number, work.Outcome(row.number, "not run"))
+            lam = "" if o.lambda_k is None else f"{o.lambda_k:g}"
+            writer.writerow([row.number, *row.photos, row.output, o.status, o.error, lam, f"{o.seconds:.3f}"])
+        text.flush()
+        text.detach()
+
+    atomic_write(path, lines)

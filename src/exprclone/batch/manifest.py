@@ -1,0 +1,103 @@
+"""What a batch job is asked to do: rows of (source neutral, source expression, target neutral, output), checked at the door.
+
+A manifest is a CSV file with the header ``source_neutral,source_expression,target_neutral,output``
+and optional ``method`` and ``lambda`` columns; its paths are relative to its own folder
+(outputs to ``--out`` when given). The other form puts one expression on every portrait
+of a folder or glob, writing ``OUT/<target name>.png``. A manifest that cannot be used
+(unreadable, columns missing, two rows writing the same output, an output that is one of
+the inputs) stops the job before any work (exit status 2); a bad value in one row (an
+unknown method) only fails that row.
+"""
+
+from __future__ import annotations
+
+import csv
+import glob
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..errors import ExprCloneError
+
+#: the columns every manifest has.
+COLUMNS = ("source_neutral", "source_expression", "target_neutral", "output")
+#: the columns a manifest may have, overriding the job's options row by row.
+OPTIONAL = ("method", "lambda")
+#: photo files a target folder may hold.
+PHOTO_SUFFIXES = {".jpg", ".jpeg", ".png", ".bmp", ".tif", ".tiff", ".webp"}
+
+
+@dataclass(frozen=True)
+class Row:
+    """One clone of a batch job: its number in the manifest (from 1), its files, and its own method and lambda_k if given."""
+
+    number: int
+    source_neutral: str
+    source_expression: str
+    target_neutral: str
+    output: str
+    method: str | None = None
+    lambda_k: str | None = None
+
+    @property
+    def photos(self) -> tuple[str, str, str]:
+        return self.source_neutral, self.source_expression, self.target_neutral
+
+
+def read_manifest(path: str, out: str | None = None) -> list[Row]:
+    """The rows of a manifest CSV (see the module's notes), checked (:func:`check_rows`)."""
+    folder = Path(path).resolve().parent
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as f:
+            reader = csv.DictReader(f)
+            header = reader.fieldnames or []
+            missing = [c for c in COLUMNS if c not in header]
+            if missing:
+                raise ExprCloneError(path, f"the manifest has no column {', '.join(missing)} (it needs {','.join(COLUMNS)})")
+            records = list(reader)
+    except OSError as e:
+        raise ExprCloneError(path, f"cannot be read ({e.strerror})") from None
+    except (UnicodeDecodeError, csv.Error) as e:
+        raise ExprCloneError(path, f"not a CSV manifest ({e})") from None
+    outputs = Path(out).resolve() if out else folder
+    rows = [
+        Row(
+            k,
+            *(str(folder / r[c].strip()) for c in COLUMNS[:3]),
+            str(outputs / r["output"].strip()),
+            (r.get("method") or "").strip() or None,
+            (r.get("lambda") or "").strip() or None,
+        )
+        for k, r in enumerate(records, 1)
+    ]
+    return check_rows(rows, path)
+
+
+def rows_for_targets(source_neutral: str, source_expression: str, targets: str, out: str) -> list[Row]:
+    """One expression on every portrait of a folder (or a glob), written to ``out/<target name>.png``."""
+    if os.path.isdir(targets):
+        found = sorted(str(p) for p in Path(targets).iterdir() if p.suffix.lower() in PHOTO_SUFFIXES)
+    else:
+        found = sorted(p for p in glob.glob(targets) if Path(p).suffix.lower() in PHOTO_SUFFIXES)
+    if not found:
+        raise ExprCloneError(targets, "no photos (.jpg, .png, ...) found")
+    neutral, expression = (str(Path(p).resolve()) for p in (source_neutral, source_expression))
+    rows = [
+        Row(k, neutral, expression, str(Path(t).resolve()), str(Path(out).resolve() / f"{Path(t).stem}.png"))
+        for k, t in enumerate(found, 1)
+    ]
+    return check_rows(rows, targets)
+
+
+def check_rows(rows: list[Row], name: str) -> list[Row]:
+    """The rows, unless two write the same output or an output is one of the inputs (ExprCloneError about ``name``)."""
+    inputs = {os.path.realpath(p) for row in rows for p in row.photos}
+    seen: dict[str, int] = {}
+    for row in rows:
+        output = os.path.realpath(row.output)
+        if output in seen:
+            raise ExprCloneError(name, f"rows {seen[output]} and {row.number} both write {row.output}")
+        if output in inputs:
+            raise ExprCloneError(name, f"row {row.number} would overwrite an input: {row.output}")
+        seen[output] = row.number
+    return rows

@@ -1,0 +1,116 @@
+"""The work of a batch job, done in a worker: a local process or a Dask worker.
+
+Tasks are plain functions over small, picklable arguments (paths, landmarks, options),
+and read and write the files at the paths given. A worker loads the detector and the
+eigenface basis once, on its first task (:func:`exprclone.pipeline.default_detector` and
+``default_eigenfaces`` keep them), and keeps them for every task after.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ExprCloneError, naming
+from .manifest import Row
+
+
+@dataclass(frozen=True)
+class Options:
+    """The job's options, for rows that do not set their own (``method``, ``lambda``)."""
+
+    method: str = "e+md"
+    lambda_k: float | str = "auto"
+    mouth: bool = True
+
+
+@dataclass(frozen=True)
+class Task:
+    """Rows that share a source's neutral photo and a target (prepared once for all of them), and every photo's landmarks."""
+
+    rows: tuple[Row, ...]
+    landmarks: dict[str, np.ndarray] = field(repr=False)
+    options: Options = Options()
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What became of a row: ``done`` or ``failed`` (with the one-line error), its lambda_k and its seconds."""
+
+    number: int
+    status: str
+    error: str = ""
+    lambda_k: float | None = None
+    seconds: float = 0.0
+
+
+def detect(paths: list[str]) -> list[tuple[np.ndarray | None, str]]:
+    """The landmarks of each photo, or the problem that stopped them (no face, not an image)."""
+    from ..io.images import load_image
+    from ..pipeline import default_detector
+
+    found = []
+    for path in paths:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                found.append((default_detector().detect(load_image(path), path), ""))
+        except ExprCloneError as e:
+            found.append((None, e.problem))
+    return found
+
+
+def parse_lambda(value: float | str) -> float | str:
+    """A row's lambda: ``auto`` or a number >= 0 (as text in a manifest), else ExprCloneError about ``lambda``."""
+    from ..checks import check_lambda
+
+    if value == "auto" or not isinstance(value, str):
+        return check_lambda(value)
+    try:
+        return check_lambda(float(value))
+    except ValueError:
+        raise ExprCloneError("lambda", f"must be 'auto' or a number >= 0, got {value!r}") from None
+
+
+def clone_rows(task: Task) -> list[Outcome]:
+    """Clone the task's rows, writing each output; a row that fails says why and the others go on."""
+    from ..io.images import load_image
+    from ..pipeline import Cloner
+
+    start, first = time.perf_counter(), task.rows[0]
+    try:
+        with warnings.catch_warnings(), naming({"source_neutral": first.source_neutral, "target_neutral": first.target_neutral}):
+            warnings.simplefilter("ignore")
+            neutral, target = load_image(first.source_neutral), load_image(first.target_neutral)
+            cloner = Cloner(neutral, task.landmarks[first.source_neutral], target, task.landmarks[first.target_neutral])
+    except ExprCloneError as e:
+        return [Outcome(row.number, "failed", str(e)) for row in task.rows]
+    outcomes = []
+    for row in task.rows:
+        outcomes.append(_clone_row(cloner, row, task, start))
+        start = time.perf_counter()
+    return outcomes
+
+
+def _clone_row(cloner, row: Row, task: Task, start: float) -> Outcome:
+    """One row on the prepared faces: its expression cloned by its method, the output written."""
+    from ..io.images import load_image, save_image
+    from ..methods import lookup
+
+    method = row.method or task.options.method
+    try:
+        with warnings.catch_warnings(), naming({"source_expression": row.source_expression}):
+            warnings.simplefilter("ignore")
+            lookup((method,))
+            lambda_k = parse_lambda(row.lambda_k if row.lambda_k is not None else task.options.lambda_k)
+            expression = load_image(row.source_expression)
+            result = cloner.clone_methods(expression, task.landmarks[row.source_expression], (method,), lambda_k, mouth=task.options.mouth)
+            save_image(row.output, result[method].image, inputs=row.photos)
+    except ExprCloneError as e:
+        return Outcome(row.number, "failed", str(e), seconds=time.perf_counter() - start)
+    except Exception as e:  # a bug, not the input's fault: the row fails, the job goes on
+        return Outcome(row.number, "failed", f"internal error ({type(e).__name__}: {e})", seconds=time.perf_counter() - start)
+    return Outcome(row.number, "done", "", result[method].lambda_k, time.perf_counter() - start)

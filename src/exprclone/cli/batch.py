@@ -1,0 +1,81 @@
+"""``exprclone batch``: many clones in one run, on all cores or on a Dask cluster (:mod:`exprclone.batch`)."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+from ..errors import ExprCloneError
+from .inputs import add_lambda, add_mouth
+
+#: exit status when some rows failed (the others were done).
+EXIT_SOME_FAILED = 1
+
+
+def add_parser(sub) -> None:
+    from ..methods import METHODS
+
+    b = sub.add_parser("batch", help="many clones in one run: a manifest, or one expression on a folder of portraits")
+    b.add_argument("manifest", nargs="?", help="CSV: source_neutral,source_expression,target_neutral,output[,method,lambda]")
+    b.add_argument("--source-neutral", metavar="IMAGE", help="with --targets: the source's neutral photo")
+    b.add_argument("--source-expression", metavar="IMAGE", help="with --targets: the source's photo with the expression")
+    b.add_argument("--targets", metavar="DIR_OR_GLOB", help="every portrait in a folder or glob gets the expression: OUT/<name>.png")
+    b.add_argument("--out", metavar="DIR", help="where outputs go (default: the manifest's folder; needed with --targets)")
+    b.add_argument("--method", choices=METHODS, default="e+md", help="for rows without their own method (default: e+md)")
+    add_lambda(b, "for rows without their own lambda: auto (the DB metric) or a number (default: auto)")
+    add_mouth(b)
+    b.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="worker processes (default: the number of cores)")
+    b.add_argument("--scheduler", metavar="ADDRESS", help="run on this Dask cluster (tcp://HOST:8786) instead of local processes")
+    b.add_argument("--cache", metavar="DIR", help="keep the photos' landmarks here between runs (by the photos' content)")
+    b.add_argument("--overwrite", action="store_true", help="redo rows whose output exists (default: skip them)")
+    b.add_argument(
+        "--report", metavar="REPORT.csv", help="one row per manifest row: status, error, lambda_k, seconds (default: OUT/report.csv)"
+    )
+
+
+def rows_of(args: argparse.Namespace):
+    """The job's rows, from the manifest or from --targets (ExprCloneError for arguments that cannot be used)."""
+    from ..batch.manifest import read_manifest, rows_for_targets
+
+    if args.manifest and args.targets:
+        raise ExprCloneError("batch", "give a manifest or --targets, not both")
+    if args.targets:
+        if not (args.source_neutral and args.source_expression and args.out):
+            raise ExprCloneError("--targets", "needs --source-neutral, --source-expression and --out")
+        return rows_for_targets(args.source_neutral, args.source_expression, args.targets, args.out)
+    if not args.manifest:
+        raise ExprCloneError("batch", "give a manifest CSV, or --targets with --source-neutral, --source-expression and --out")
+    return read_manifest(args.manifest, args.out)
+
+
+def run(args: argparse.Namespace) -> None:
+    from pathlib import Path
+
+    from ..batch import job, work
+    from ..progress import Bar
+
+    if args.jobs < 1:
+        raise ExprCloneError("--jobs", f"expected at least 1, got {args.jobs}")
+    rows = rows_of(args)
+    folder = Path(args.out or Path(args.manifest).resolve().parent)
+    report = args.report or str(folder / "report.csv")
+    options = work.Options(args.method, args.lambda_k, args.mouth)
+    backend = job.Dask(args.scheduler) if args.scheduler else job.Local(args.jobs)
+    cache = None if args.cache is None else Path(args.cache)
+    outcomes: dict = {}
+    try:
+        job.run(rows, options, backend, outcomes, overwrite=args.overwrite, cache=cache, progress=lambda n, what: Bar(sys.stderr, n, what))
+    except KeyboardInterrupt:
+        job.write_report(report, rows, outcomes)
+        print(
+            f"\nexprclone: interrupted; the {len(outcomes)} rows finished are whole, the report is {report}; run again to resume",
+            file=sys.stderr,
+        )
+        raise SystemExit(130) from None
+    job.write_report(report, rows, outcomes)
+    counts = {status: sum(o.status == status for o in outcomes.values()) for status in ("done", "skipped", "failed")}
+    done = f"{counts['done']} done, {counts['skipped']} skipped (output already there), {counts['failed']} failed"
+    print(f"{len(rows)} rows: {done}; report: {report}")
+    if counts["failed"]:
+        raise SystemExit(EXIT_SOME_FAILED)
