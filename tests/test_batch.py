@@ -184,3 +184,9 @@ def test_dask_cluster_gives_the_same_outputs(tmp_path):
     for name in ("a.png", "b.png"):
         assert np.array_equal(pixels(local / name), pixels(remote / name))
     assert [r["status"] for r in report(remote)] == ["done", "done", "failed"]
+
+
+def test_a_scheduler_that_cannot_be_reached_is_one_line(tmp_path):
+    p = run(manifest(tmp_path, [("126", "003", "a.png")]), "--scheduler", "no-port-here")
+    assert p.returncode == 2 and p.stderr.startswith("exprclone: error: --scheduler: cannot reach a Dask scheduler at no-port-here")
+    assert len(p.stderr.strip().splitlines()) == 1

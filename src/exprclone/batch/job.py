@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import ExprCloneError
 from ..progress import Quiet
 from . import work
 from .manifest import Row
@@ -35,6 +36,8 @@ from .manifest import Row
 DETECT_CHUNK = 8
 #: rows cloned per task at most (smaller tasks balance the workers and stop sooner after Ctrl-C).
 CLONE_CHUNK = 4
+#: seconds to wait for a Dask scheduler.
+CONNECT_TIMEOUT = 10
 #: the report's columns.
 REPORT = ("row", "source_neutral", "source_expression", "target_neutral", "output", "status", "error", "lambda_k", "seconds")
 
@@ -76,9 +79,15 @@ class Dask:
 
     @contextlib.contextmanager
     def running(self) -> Iterator[Callable[[Callable, list], Iterator]]:
-        from distributed import Client, as_completed
-
-        with Client(self.scheduler) as client:
+        try:
+            from distributed import Client, as_completed
+        except ImportError:
+            raise ExprCloneError("--scheduler", "needs Dask: pip install 'exprclone[dask]'") from None
+        try:
+            client = Client(self.scheduler, timeout=CONNECT_TIMEOUT)
+        except (OSError, ValueError) as e:
+            raise ExprCloneError("--scheduler", f"cannot reach a Dask scheduler at {self.scheduler} ({e})") from None
+        with client:
             submitted: list = []
 
             def map_(function, items):
