@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from . import muscle
+from . import geometry, muscle
 from .layout import Layout
 
 #: between-people standard deviation of the skin cue's log brightness and log colour (per
@@ -183,11 +183,13 @@ def split(log_rgb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def skin_pixels(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> np.ndarray:
     """The pixels of the cheeks: discs at the :data:`SKIN_AREAS` muscle areas, ``(K, 3)``."""
     centres, radii = muscle.areas(landmarks, layout)
-    mask = np.zeros(image.shape[:2], np.uint8)
+    box = geometry.box(centres, image.shape, float(radii.max()) + 1)  # the discs' pixels only, not the whole photo's
+    corner = np.array([box[1].start, box[0].start])
+    mask = np.zeros(image[box].shape[:2], np.uint8)
     for area, centre, radius in zip(layout.muscle_areas, centres, radii):
         if area.name in SKIN_AREAS:
-            cv2.circle(mask, tuple(int(v) for v in np.round(centre)), max(1, int(round(SKIN_RADIUS * radius))), 1, -1)
-    return image[mask > 0]
+            cv2.circle(mask, tuple(int(v) for v in np.round(centre) - corner), max(1, int(round(SKIN_RADIUS * radius))), 1, -1)
+    return image[box][mask > 0]
 
 
 def sclera_pixels(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> np.ndarray:
@@ -197,10 +199,12 @@ def sclera_pixels(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> n
     shifts alike for every pixel, so that the same pixels are chosen under any light (by
     luma, an orange light would favour the reddest).
     """
-    mask = np.zeros(image.shape[:2], np.uint8)
+    box = geometry.box(landmarks[[i for eye in layout.eyes for i in eye]], image.shape)
+    corner = np.array([box[1].start, box[0].start])
+    mask = np.zeros(image[box].shape[:2], np.uint8)
     for eye in layout.eyes:
-        cv2.fillPoly(mask, [np.round(landmarks[list(eye)]).astype(np.int32)], 1)
-    pixels = image[mask > 0]
+        cv2.fillPoly(mask, [np.round(landmarks[list(eye)]).astype(np.int32) - corner], 1)
+    pixels = image[box][mask > 0]
     pixels = pixels[pixels.max(1) < SATURATED]
     if not len(pixels):
         return pixels
