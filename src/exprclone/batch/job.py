@@ -23,6 +23,7 @@ import signal
 import time
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 
 import numpy as np
@@ -67,8 +68,11 @@ class Local:
 
 
 def _completed(futures: dict) -> Iterator:
-    for future in as_completed(futures):
-        yield futures[future], future.result()
+    try:
+        for future in as_completed(futures):
+            yield futures[future], future.result()
+    except BrokenProcessPool as e:
+        raise ExprCloneError("batch", f"a worker process died ({e}); the rows finished are whole: run again to resume") from None
 
 
 class Dask:

@@ -105,6 +105,7 @@ class Work:
                 return await asyncio.get_running_loop().run_in_executor(self.pool, function, *args)
             except BrokenProcessPool:
                 log.error("a worker process died; starting new ones")
+                self.pool.shutdown(wait=False, cancel_futures=True)
                 self.pool = self._pool(self.settings.workers)
                 raise Busy("a worker stopped unexpectedly; try again") from None
 
