@@ -66,6 +66,9 @@ def run(args: argparse.Namespace) -> None:
     outcomes: dict = {}
     try:
         job.run(rows, options, backend, outcomes, overwrite=args.overwrite, cache=cache, progress=lambda n, what: Bar(sys.stderr, n, what))
+    except ExprCloneError:  # the job could not go on (a worker died, the cluster went): keep the report of what finished
+        job.write_report(report, rows, outcomes)
+        raise
     except KeyboardInterrupt:
         job.write_report(report, rows, outcomes)
         print(
