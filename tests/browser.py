@@ -11,6 +11,7 @@ CHROMIUM = Path("/usr/lib/chromium/chromium")
 #: flags for a headless Chromium as root on a machine with no network beyond loopback.
 FLAGS = [
     "--no-sandbox",
+    "--disable-dev-shm-usage",  # a container's /dev/shm may be too small for Chromium
     "--disable-gpu",
     "--disable-quic",
     "--no-first-run",
