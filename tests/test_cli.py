@@ -215,3 +215,15 @@ def test_a_global_landmark_file_with_the_wrong_count(pair, tmp_path):
     bad = tmp_path / "gi.json"
     bad.write_text(json.dumps({"landmarks": pair[1][2][:50].tolist()}))
     expect_error(tmp_path, [SN, SE, TN, "--global-landmarks", bad], f"{bad}: found 50 landmarks")
+
+
+def test_evaluate_with_variants(london, tmp_path):
+    out = tmp_path / "report"
+    p = run("evaluate", "--data", london, "--pairs", "1", "--methods", "global,elastic", "--global-warps", "similarity,rbf", "--out", out)
+    assert p.returncode == 0, p.stderr
+    rows = (out / "pairs.csv").read_text().splitlines()
+    assert len(rows) == 1 + 2 + 2 * 2  # header, the references, then two methods in two variants
+    assert "| elastic [rbf] | 1 | 0 |" in p.stdout and "| global [rbf] - global | 1 |" in p.stdout
+    assert "## Variants against the paper's setting" in (out / "summary.md").read_text()
+    p = run("evaluate", "--data", london, "--global-warps", "affine", "--out", tmp_path / "r")
+    assert p.returncode == 2 and "unknown global warp 'affine'" in p.stderr
