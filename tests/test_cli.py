@@ -224,6 +224,6 @@ def test_evaluate_with_variants(london, tmp_path):
     rows = (out / "pairs.csv").read_text().splitlines()
     assert len(rows) == 1 + 2 + 2 * 2  # header, the references, then two methods in two variants
     assert "| elastic [rbf] | 1 | 0 |" in p.stdout and "| global [rbf] - global | 1 |" in p.stdout
-    assert "## Variants against the paper's setting" in (out / "summary.md").read_text()
+    assert "## Pair by pair" in (out / "summary.md").read_text() and "| elastic [rbf] - global [rbf] | 1 |" in p.stdout
     p = run("evaluate", "--data", london, "--global-warps", "affine", "--out", tmp_path / "r")
     assert p.returncode == 2 and "unknown global warp 'affine'" in p.stderr

@@ -189,7 +189,11 @@ def test_variants_pair_with_global_in_their_own_variant_and_with_the_paper():
     assert by_method["elastic"]["mouth_vs_baseline"] == pytest.approx((0.01 + 0.0) / 2)
     assert by_method["elastic [rbf]"]["mouth_vs_baseline"] == pytest.approx(0.01 - 0.03)  # ac failed: left out
     lines = {c["compared"]: c for c in contrasts(rows)}
-    assert set(lines) == {"global [rbf] - global", "elastic [rbf] - elastic"}
+    assert list(lines) == ["elastic - global", "elastic [rbf] - global [rbf]", "global [rbf] - global", "elastic [rbf] - elastic"]
+    assert lines["elastic - global"]["pairs"] == 2 and lines["elastic - global"]["mouth_mean"] == pytest.approx(0.005)
+    assert lines["elastic [rbf] - global [rbf]"]["pairs"] == 1 and lines["elastic [rbf] - global [rbf]"]["mouth_mean"] == pytest.approx(
+        -0.02
+    )
     g = lines["global [rbf] - global"]
     assert g["pairs"] == 2 and g["mouth_mean"] == pytest.approx((-0.01 - 0.01) / 2) and g["identity_mean"] == pytest.approx(-0.01)
     assert lines["elastic [rbf] - elastic"]["pairs"] == 1 and lines["elastic [rbf] - elastic"]["mouth_mean"] == pytest.approx(-0.04)

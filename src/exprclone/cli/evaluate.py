@@ -83,7 +83,7 @@ def run(args: argparse.Namespace) -> None:
     write_report(Path(args.out), data, rows, landmarks, methods, command, chosen)
     print(table(summarise(rows)))
     print(f"strong smiles only:\n{table(summarise(rows, strong_only=True))}")
-    if len(chosen) > 1 and not chosen[0][0]:
-        print(f"variants against the paper's setting, paired:\n{contrast_table(contrasts(rows))}")
+    if contrasts(rows):
+        print(f"pair by pair:\n{contrast_table(contrasts(rows))}")
         print(f"strong smiles only:\n{contrast_table(contrasts(rows, strong_only=True))}")
     print(f"report: {Path(args.out) / 'summary.md'}")
