@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ExprCloneError
+from .options import GLOBAL_WARPS, IMAGE_WARPS, STRENGTH_RANGE, Options
 
 
 def check_image(image: np.ndarray, subject: str) -> np.ndarray:
@@ -73,7 +74,7 @@ def check_points(points: np.ndarray, image_shape: tuple[int, ...], n_points: int
     return points
 
 
-def check_options(options: dict, n_points: int, target_shape: tuple[int, ...], regions: tuple[str, ...]):
+def check_options(options: dict, n_points: int, target_shape: tuple[int, ...], regions: tuple[str, ...]) -> Options:
     """The keyword options of a clone (:class:`exprclone.options.Options`), or ExprCloneError about the first bad one.
 
     Parameters
@@ -92,8 +93,6 @@ def check_options(options: dict, n_points: int, target_shape: tuple[int, ...], r
     -------
     Options
     """
-    from .options import GLOBAL_WARPS, IMAGE_WARPS, STRENGTH_RANGE, Options
-
     unknown = sorted(set(options) - set(Options.__dataclass_fields__))
     if unknown:
         raise ExprCloneError(unknown[0], f"not an option; choose from {', '.join(Options.__dataclass_fields__)}")
