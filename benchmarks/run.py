@@ -37,7 +37,7 @@ import numpy as np
 from exprclone import METHODS, clone, clone_methods, elastic, eri, geometry, global_warp, local_warp, metric, muscle, tps, warp
 from exprclone.io.images import load_image
 from exprclone.layout import DLIB68
-from exprclone.pipeline import default_detector, default_eigenfaces
+from exprclone.pipeline import default_detector, default_eigenfaces, tps_refine
 
 
 def median_ms(fn, repeat: int) -> float:
@@ -157,7 +157,7 @@ def tps_vs_mesh(images, lms, repeat: int) -> dict[str, float]:
     dst = mesh.control_points(tn + 4 * np.stack([np.sin(tn[:, 1] / 60), np.cos(tn[:, 0] / 50)], 1))
     fns = {
         "mesh warp (piecewise-affine)": lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles),
-        "TPS warp (two grids, bicubic, one remap)": lambda: tps.warp(tn_img, mesh.points, dst, None, mesh.n_moving),
+        "TPS warp (three grids, bicubic, one remap)": lambda: tps.warp(tn_img, mesh.points, dst, None, tps_refine(mesh)),
     }
     alone = {f"{name}, alone": median_ms(fn, 3 * repeat) for name, fn in fns.items()}
     return alone | {f"{name}, in turn": ms for name, ms in interleaved_ms(fns, 3 * repeat).items()}

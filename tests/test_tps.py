@@ -5,6 +5,7 @@ from scipy.interpolate import RBFInterpolator
 
 from exprclone import tps, warp
 from exprclone.layout import DLIB68
+from exprclone.pipeline import tps_refine
 
 
 def smile_control(pair):
@@ -26,7 +27,7 @@ def test_landmarks_land_where_asked(pair):
     image = np.zeros(target.shape[:2], np.uint8)
     for x, y in lm.round().astype(int):
         image[y, x] = 255  # a one-pixel dot on every landmark
-    out = tps.warp(image, mesh.points, dst, None, mesh.n_moving)
+    out = tps.warp(image, mesh.points, dst, None, tps_refine(mesh))
     expected = moved + (lm.round() - lm)  # each dot keeps its sub-pixel offset
     separate = [i for i in range(68) if np.sort(np.linalg.norm(lm - lm[i], axis=1))[1] > 12]
     assert len(separate) > 40
@@ -38,14 +39,14 @@ def test_landmarks_land_where_asked(pair):
         assert np.hypot(xs - 3 + wx - x, ys - 3 + wy - y) <= 1.0
 
 
-#: how far the interpolated map may be from the spline: the note of ``tps.GRID_STEP`` (at most 0.76 pixel on 20 London smiles).
-DOCUMENTED_ERROR = 0.8
+#: how far the interpolated map may be from the spline: the note of ``tps.FACE_STEP`` (at most 0.46 pixel on 20 London smiles).
+DOCUMENTED_ERROR = 0.5
 
 
 def test_the_map_is_the_spline_between_the_grid_nodes(pair):
-    """Interpolating between grid nodes keeps the map as close to the spline as ``tps.GRID_STEP``'s note says."""
+    """Interpolating between grid nodes keeps the map as close to the spline as ``tps.FACE_STEP``'s note says."""
     target, lm, mesh, _, dst = smile_control(pair)
-    maps = tps.inverse_maps(mesh.points, dst, target.shape[:2], mesh.n_moving)
+    maps = tps.inverse_maps(mesh.points, dst, target.shape[:2], tps_refine(mesh))
     src, dst = tps.merged(mesh.points, dst)
     spline = RBFInterpolator(dst, src, kernel="thin_plate_spline")
     rows, cols = np.random.default_rng(0).integers(0, target.shape[0], (2, 2000))
@@ -70,7 +71,7 @@ def test_no_kinks_at_triangle_edges(pair):
     target, _, mesh, _, dst = smile_control(pair)
     labels = warp.PiecewiseAffine.build(mesh.points, dst, mesh.triangles, target.shape[:2]).labels.astype(int)
     mesh_x, _ = warp.inverse_maps(mesh.points, dst, mesh.triangles, target.shape[:2])
-    tps_x = tps.inverse_maps(mesh.points, dst, target.shape[:2], mesh.n_moving)[..., 0]
+    tps_x = tps.inverse_maps(mesh.points, dst, target.shape[:2], tps_refine(mesh))[..., 0]
     face = (slice(300, 1100), slice(300, 1050))
     crossing = (labels[:, :-2] != labels[:, 2:])[face[0], face[1]]  # x - 1 and x + 1 in different triangles
     bend = lambda m: np.abs(np.diff(m.astype(float), 2, axis=1))[face]  # noqa: E731

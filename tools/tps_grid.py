@@ -1,12 +1,13 @@
 """How far apart the thin-plate spline's grid nodes may be (``exprclone.tps.GRID_STEP``), and what the spline costs.
 
-    python tools/tps_grid.py [--data ../shared/data] [--pairs 20] [--steps 16,16 32,8 32,4]
+    python tools/tps_grid.py [--data ../shared/data] [--pairs 20] [--steps 8,8 8,4 8,2 4,4]
 
 For London pairs (seed 0), the e+md geometry of the smile cloned onto the target at full
-size (1350 pixels) gives the control points; for each pair of grid steps (the whole image's,
-the face's), the map interpolated between the nodes is compared with the spline
-evaluated at 20,000 random pixels of the face's box (largest and median error, pixels),
-and the TPS warp of the photo is timed against the mesh warp (medians of 5 runs, interleaved).
+size (1350 pixels) gives the control points; for each pair of grid steps (the face's and the
+mouth's; the whole image's is ``tps.GRID_STEP``), the map interpolated between the nodes
+is compared with the spline evaluated at 20,000 random pixels of the face's box and
+20,000 of the mouth's (largest and median error, pixels), and the TPS warp of the photo
+is timed against the mesh warp (medians of 5 runs, interleaved).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from scipy.interpolate import RBFInterpolator
 from exprclone import clone, tps, warp
 from exprclone.evaluation.london import Dataset
 from exprclone.io.images import load_image
-from exprclone.pipeline import Cloner, default_detector
+from exprclone.pipeline import Cloner, default_detector, tps_refine
 
 
 def control_points(data: Dataset, a: str, b: str):
@@ -36,12 +37,16 @@ def control_points(data: Dataset, a: str, b: str):
 
 
 def errors(mesh, control, shape, rng) -> np.ndarray:
-    maps = tps.inverse_maps(mesh.points, control, shape, mesh.n_moving)
+    """Distances between the interpolated map and the spline at random pixels of the face's box and of the mouth's."""
+    maps = tps.inverse_maps(mesh.points, control, shape, tps_refine(mesh))
     src, dst = tps.merged(mesh.points, control)
     spline = RBFInterpolator(dst, src, kernel="thin_plate_spline")
-    lo, hi = control[: mesh.n_landmarks].min(0).astype(int), control[: mesh.n_landmarks].max(0).astype(int)
-    xs, ys = rng.integers(lo[0], hi[0], 20000), rng.integers(lo[1] - (hi[1] - lo[1]) // 2, hi[1], 20000).clip(0, shape[0] - 1)
-    return np.linalg.norm(maps[ys, xs] - spline(np.stack([xs, ys], 1).astype(float)), axis=1)
+    samples = []
+    for points in (control[: mesh.n_moving], control[mesh.mouth]):
+        lo, hi = np.maximum(points.min(0).astype(int), 0), np.minimum(points.max(0).astype(int), (shape[1] - 1, shape[0] - 1))
+        samples.append(np.stack([rng.integers(lo[0], hi[0] + 1, 20000), rng.integers(lo[1], hi[1] + 1, 20000)], 1))
+    xy = np.concatenate(samples)
+    return np.linalg.norm(maps[xy[:, 1], xy[:, 0]] - spline(xy.astype(float)), axis=1)
 
 
 def timings(image, mesh, control, repeat: int = 5) -> tuple[float, float]:
@@ -49,7 +54,7 @@ def timings(image, mesh, control, repeat: int = 5) -> tuple[float, float]:
     for _ in range(repeat + 1):
         for name, fn in (
             ("mesh", lambda: warp.warp(image, mesh.points, control, mesh.triangles)),
-            ("tps", lambda: tps.warp(image, mesh.points, control, None, mesh.n_moving)),
+            ("tps", lambda: tps.warp(image, mesh.points, control, None, tps_refine(mesh))),
         ):
             t = time.perf_counter()
             fn()
@@ -61,7 +66,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
     parser.add_argument("--pairs", type=int, default=20)
-    parser.add_argument("--steps", nargs="+", default=["16,16", "32,8", "32,4"], help="grid steps: whole image, face")
+    parser.add_argument("--steps", nargs="+", default=["8,8", "8,4", "8,2", "4,4"], help="grid steps: face, mouth")
     args = parser.parse_args()
     data = Dataset.open(Path(args.data) / "london")
     rng = np.random.default_rng(0)
@@ -70,7 +75,7 @@ def main() -> None:
     for a, b in data.pairs(args.pairs, seed=0):
         image, mesh, control = control_points(data, a, b)
         for step in args.steps:
-            tps.GRID_STEP = tuple(int(s) for s in step.split(","))
+            tps.FACE_STEP, tps.MOUTH_STEP = (int(s) for s in step.split(","))
             found[step].append(errors(mesh, control, image.shape[:2], rng))
             ms[step].append(timings(image, mesh, control))
     for step in args.steps:

@@ -279,8 +279,13 @@ def mesh_warp(image: np.ndarray, src: np.ndarray, dst: np.ndarray, mesh: warp.Me
 
 
 def tps_warp(image: np.ndarray, src: np.ndarray, dst: np.ndarray, mesh: warp.Mesh, out_shape: tuple[int, int] | None = None) -> np.ndarray:
-    """The thin-plate spline through the mesh's control points (:func:`tps.warp`), its fine grid over the moving ones."""
-    return tps.warp(image, src, dst, out_shape, mesh.n_moving)
+    """The thin-plate spline through the mesh's control points (:func:`tps.warp`), its grid refined by :func:`tps_refine`."""
+    return tps.warp(image, src, dst, out_shape, tps_refine(mesh))
+
+
+def tps_refine(mesh: warp.Mesh) -> tuple[tuple[np.ndarray, int], ...]:
+    """Where the TPS warp evaluates its spline on finer grids: the face (the moving control points), then the mouth."""
+    return (np.arange(mesh.n_moving), tps.FACE_STEP), (mesh.mouth, tps.MOUTH_STEP)
 
 
 #: the image warps by name (:attr:`Options.image_warp`), each ``(image, src, dst, mesh, out_shape) -> image``.

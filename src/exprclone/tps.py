@@ -6,8 +6,9 @@ bends at each edge it crosses. The thin-plate spline through the same control po
 is the map of least bending energy: smooth everywhere, exact at the control points.
 
 The output-to-source map ``g`` is fitted on the control points (output positions to
-source positions) and evaluated on two grids of nodes only: a coarse one over the whole
-image, and a finer one over the face, where it bends most (:data:`GRID_STEP`). Between
+source positions) and evaluated on grids of nodes only: a coarse one over the whole
+image, finer ones over the face and over the mouth, where it bends most (:data:`GRID_STEP`,
+:data:`FACE_STEP`, :data:`MOUTH_STEP`). Between
 the nodes it is interpolated by cubic convolution (``cv2.resize`` of the node grid); as
 in :mod:`exprclone.warp`, the maps are made and the photo sampled (``cv2.remap``) strip
 by strip of rows, in one buffer that stays in the CPU cache. The spline is smooth at the
@@ -18,22 +19,26 @@ every pixel.
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import cv2
 import numpy as np
 
-#: pixels between the grid nodes where the spline is evaluated over the whole image, and
-#: over the face (the box of the control points that move, grown by :data:`FACE_MARGIN`),
-#: where it bends most. ``python tools/tps_grid.py``: on 20 London smiles cloned at 1350
-#: pixels, the map interpolated between these nodes is at most 0.76 pixel from the spline
-#: itself (median 0.02), near the inner lips, where an opening mouth is squeezed onto the
-#: closed lip line; one grid of 16 pixels everywhere, as fast, was 2.4 pixels off, and
-#: (32, 4) 0.24 pixel off in 1.7 times the time.
-GRID_STEP = (32, 8)
-#: the fine grid reaches this share of the face box's size beyond it.
-FACE_MARGIN = 0.1
+#: pixels between the grid nodes where the spline is evaluated over the whole image.
+GRID_STEP = 32
+#: the same over the face (the box of the control points that move), where it bends more,
+#: and over the mouth, where it bends most: an opening mouth is squeezed onto the closed lip
+#: line of the target's photo, a line a pixel or two high, so that errors of a fraction of
+#: a pixel there show as bands across the opening (at 8 pixels plainly, at 4 faintly, at
+#: 2 no more than with the spline evaluated at every pixel). ``python tools/tps_grid.py``:
+#: on 20 London smiles cloned at 1350 pixels the map is then at most 0.46 pixel from the
+#: spline over the face and the mouth (median 0.02), in 1.5 times the mesh warp's time;
+#: with 8 pixels over the mouth too, 0.74 pixel off; with 4 over the face, 0.25 pixel off
+#: in 2.4 times the mesh warp's time.
+FACE_STEP, MOUTH_STEP = 8, 2
+#: each finer grid covers the box of its control points grown by this share of its size.
+REFINE_MARGIN = 0.1
 #: output rows mapped and sampled at a time: each strip resizes the node rows around it,
 #: four more than it spans, so tall strips waste less (256 rows: 1.5 times the rows
 #: needed on the coarse grid), and its map (2.8 MB at 1350 pixels) still stays in the cache.
@@ -166,24 +171,25 @@ def kernel(squared: np.ndarray) -> np.ndarray:
     return 0.5 * squared * np.log(np.maximum(squared, np.finfo(squared.dtype).tiny))
 
 
-def grids(src: np.ndarray, dst: np.ndarray, out_shape: tuple[int, int], moving: int | None) -> list[Grid]:
+def grids(src: np.ndarray, dst: np.ndarray, out_shape: tuple[int, int], refine: Sequence[tuple[np.ndarray, int]]) -> list[Grid]:
     """The spline of the displacement fitted on the control points (output positions to displacements), on the
-    whole image's grid and on the face's (:data:`GRID_STEP`)."""
+    whole image's grid (:data:`GRID_STEP`), then on the finer grid of each box of ``refine``."""
     h, w = out_shape
-    face = dst[:moving]
+    boxes = [(dst[np.asarray(idx)], step) for idx, step in refine]
     src, dst = merged(src, dst)
     spline = Spline.fit(dst, src - dst)
-    margin = FACE_MARGIN * (face.max(axis=0) - face.min(axis=0))
-    lo = np.clip(np.floor(face.min(axis=0) - margin), 0, (w, h)).astype(int)
-    hi = np.clip(np.ceil(face.max(axis=0) + margin), 0, (w, h)).astype(int)
-    out = [Grid.evaluate(spline, (slice(0, h), slice(0, w)), GRID_STEP[0])]
-    if (hi > lo).all():
-        out.append(Grid.evaluate(spline, (slice(lo[1], hi[1]), slice(lo[0], hi[0])), GRID_STEP[1]))
+    out = [Grid.evaluate(spline, (slice(0, h), slice(0, w)), GRID_STEP)]
+    for points, step in boxes:
+        margin = REFINE_MARGIN * (points.max(axis=0) - points.min(axis=0))
+        lo = np.clip(np.floor(points.min(axis=0) - margin), 0, (w, h)).astype(int)
+        hi = np.clip(np.ceil(points.max(axis=0) + margin), 0, (w, h)).astype(int)
+        if (hi > lo).all():
+            out.append(Grid.evaluate(spline, (slice(lo[1], hi[1]), slice(lo[0], hi[0])), step))
     return out
 
 
 def strip_maps(
-    src: np.ndarray, dst: np.ndarray, out_shape: tuple[int, int], moving: int | None = None
+    src: np.ndarray, dst: np.ndarray, out_shape: tuple[int, int], refine: Sequence[tuple[np.ndarray, int]] = ()
 ) -> Iterator[tuple[slice, np.ndarray]]:
     """``(rows, map)`` for ``cv2.remap``, strip by strip of :data:`STRIP` output rows.
 
@@ -192,8 +198,9 @@ def strip_maps(
     src, dst : ndarray of shape (N, 2)
         Control points in the source image and in the output, not all on one line.
     out_shape : (H, W)
-    moving : int, optional
-        The first ``moving`` control points are the face's (:data:`GRID_STEP`); all by default.
+    refine : sequence of (ndarray of int, int)
+        Control points (their indices) whose box gets a finer grid, and its step
+        (:data:`FACE_STEP`, :data:`MOUTH_STEP`); later boxes over earlier ones.
 
     Yields
     ------
@@ -202,7 +209,7 @@ def strip_maps(
         Each pixel's source position; overwritten by the next strip's.
     """
     h, w = out_shape
-    coarse, *fine = grids(np.asarray(src, float), np.asarray(dst, float), out_shape, moving)
+    coarse, *fine = grids(np.asarray(src, float), np.asarray(dst, float), out_shape, refine)
     shift = np.empty((min(STRIP, h), w, 2), np.float32)
     for y0 in range(0, h, STRIP):
         rows = slice(y0, min(y0 + STRIP, h))
@@ -225,16 +232,20 @@ def pixel_grid(rows: int, w: int) -> np.ndarray:
     return grid
 
 
-def inverse_maps(src: np.ndarray, dst: np.ndarray, out_shape: tuple[int, int], moving: int | None = None) -> np.ndarray:
+def inverse_maps(src: np.ndarray, dst: np.ndarray, out_shape: tuple[int, int], refine: Sequence[tuple[np.ndarray, int]] = ()) -> np.ndarray:
     """The spline's map from each output pixel to its source position, ``(H, W, 2)`` float32 (:func:`strip_maps`, whole)."""
     out = np.empty((*out_shape, 2), np.float32)
-    for rows, strip in strip_maps(src, dst, out_shape, moving):
+    for rows, strip in strip_maps(src, dst, out_shape, refine):
         out[rows] = strip
     return out
 
 
 def warp(
-    image: np.ndarray, src: np.ndarray, dst: np.ndarray, out_shape: tuple[int, int] | None = None, moving: int | None = None
+    image: np.ndarray,
+    src: np.ndarray,
+    dst: np.ndarray,
+    out_shape: tuple[int, int] | None = None,
+    refine: Sequence[tuple[np.ndarray, int]] = (),
 ) -> np.ndarray:
     """Warp ``image`` by the thin-plate spline that takes control points ``src`` to ``dst``.
 
@@ -245,8 +256,8 @@ def warp(
         Control points in ``image`` and in the output.
     out_shape : (H, W), optional
         Output size; the input's by default.
-    moving : int, optional
-        The first ``moving`` control points are the face's (:func:`inverse_maps`).
+    refine : sequence of (ndarray of int, int)
+        Control points whose box gets a finer grid, and its step (:func:`strip_maps`).
 
     Returns
     -------
@@ -262,6 +273,6 @@ def warp(
     """
     out_shape = tuple(image.shape[:2] if out_shape is None else out_shape)
     out = np.empty(out_shape + image.shape[2:], image.dtype)
-    for rows, strip in strip_maps(src, dst, out_shape, moving):
+    for rows, strip in strip_maps(src, dst, out_shape, refine):
         cv2.remap(image, strip, None, cv2.INTER_LINEAR, dst=out[rows], borderMode=cv2.BORDER_REPLICATE)
     return out
