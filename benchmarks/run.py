@@ -12,6 +12,9 @@ Prints, for the sample photos at 512x512 and at their full 1350x1350:
     the same points and image, and against a bare cv2.remap with precomputed maps (the
     floor for any warp; measured in turn with ours, so both see the same load), as
     ratios measured in the same run;
+  * the thin-plate-spline warp (``--image-warp tps``) against the mesh warp on the same
+    control points, each alone and the two in turn (the target: within 2x of the mesh
+    warp at 1350), and the global method with either;
   * how e+md's time grows with image size (256, 512, 1024, 2048);
   * peak memory of one e+md clone at full size (a child process's max RSS), and the
     start-up time of the ``exprclone`` command.
@@ -31,10 +34,10 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from exprclone import METHODS, clone, clone_methods, elastic, eri, geometry, global_warp, local_warp, metric, muscle, warp
+from exprclone import METHODS, clone, clone_methods, elastic, eri, geometry, global_warp, local_warp, metric, muscle, tps, warp
 from exprclone.io.images import load_image
 from exprclone.layout import DLIB68
-from exprclone.pipeline import default_detector, default_eigenfaces
+from exprclone.pipeline import default_detector, default_eigenfaces, tps_refine
 
 
 def median_ms(fn, repeat: int) -> float:
@@ -87,6 +90,7 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
         "landmark detection (1 photo)": median_ms(lambda: default_detector().detect(tn_img), repeat),
         "mesh": median_ms(lambda: warp.build_mesh(tn, tn_img.shape, DLIB68), repeat),
         "global (landmarks)": median_ms(lambda: global_warp.global_landmarks(sn, se, tn, DLIB68), repeat),
+        "global RBF (landmarks, Jacobians included)": median_ms(lambda: global_warp.rbf_landmarks(sn, se, tn, DLIB68), repeat),
         "local (landmarks)": median_ms(lambda: local_warp.local_landmarks(gl, se, DLIB68), repeat),
         "elastic (1 lambda)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, 1.0), repeat),
         "elastic (13 lambdas at once, as clone does)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, lambdas), repeat),
@@ -109,6 +113,11 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
 def methods(images, lms, repeat: int) -> dict[str, float]:
     out = {m: median_ms(lambda m=m: clone(*images, method=m, landmarks=lms), repeat) for m in METHODS}
     out["all 7 methods (clone_methods)"] = median_ms(lambda: clone_methods(*images, landmarks=lms), repeat)
+    out["e+md, --global-warp rbf"] = median_ms(lambda: clone(*images, method="e+md", landmarks=lms, global_warp="rbf"), repeat)
+    out["e+md, --image-warp tps"] = median_ms(lambda: clone(*images, method="e+md", landmarks=lms, image_warp="tps"), repeat)
+    out["global, --image-warp tps (against global: the warp's cost)"] = median_ms(
+        lambda: clone(*images, method="global", landmarks=lms, image_warp="tps"), repeat
+    )
     out["e+md with landmark detection"] = median_ms(lambda: clone(*images, method="e+md"), repeat)
     return out
 
@@ -140,6 +149,20 @@ def warp_peers(images, lms, repeat: int) -> dict[str, float]:
     return rows
 
 
+def tps_vs_mesh(images, lms, repeat: int) -> dict[str, float]:
+    """The TPS warp and the mesh warp of the target photo, on the same control points: each timed alone (back to
+    back), and the two in turn (so that both see the same load; each then pays for the other's use of the caches)."""
+    tn_img, tn = images[2], lms[2]
+    mesh = warp.build_mesh(tn, tn_img.shape, DLIB68)
+    dst = mesh.control_points(tn + 4 * np.stack([np.sin(tn[:, 1] / 60), np.cos(tn[:, 0] / 50)], 1))
+    fns = {
+        "mesh warp (piecewise-affine)": lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles),
+        "TPS warp (three grids, bicubic, one remap)": lambda: tps.warp(tn_img, mesh.points, dst, None, tps_refine(mesh)),
+    }
+    alone = {f"{name}, alone": median_ms(fn, 3 * repeat) for name, fn in fns.items()}
+    return alone | {f"{name}, in turn": ms for name, ms in interleaved_ms(fns, 3 * repeat).items()}
+
+
 def peak_memory_mb(data: Path) -> float:
     """Max RSS of a child process that runs one full-size e+md clone with detection."""
     code = (
@@ -166,7 +189,7 @@ def show(title: str, rows: dict[str, float], ratio_to: str | None = None) -> Non
     print(f"\n{title}")
     for name, ms in rows.items():
         extra = f"  ({ms / rows[ratio_to]:.1f}x)" if ratio_to else ""
-        print(f"  {name:45s} {ms:9.1f} ms{extra}")
+        print(f"  {name:60s} {ms:9.1f} ms{extra}")
 
 
 def main() -> None:
@@ -185,6 +208,11 @@ def main() -> None:
             f"piecewise-affine warp at {size}x{size}, ratio to the bare remap",
             warp_peers(images, lms, args.repeat),
             "bare cv2.remap, maps precomputed",
+        )
+        show(
+            f"thin-plate-spline warp at {size}x{size}, ratio to the mesh warp alone",
+            tps_vs_mesh(images, lms, args.repeat),
+            "mesh warp (piecewise-affine), alone",
         )
     if not args.quick:
         sweep = {}

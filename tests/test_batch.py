@@ -118,6 +118,20 @@ def test_one_expression_on_a_folder_of_portraits(tmp_path):
     assert sorted(os.listdir(tmp_path / "out")) == ["001_03.png", "003_03.png", "126_03.png", "report.csv"]
 
 
+def test_the_transfer_options_reach_every_row(tmp_path):
+    path = manifest(tmp_path, [("126", "003", "a.png"), ("126", "001", "b.png")])
+    p = run(path, "--jobs", "1", "--method", "global", "--global-warp", "rbf", "--strength", "0.5", "--only", "mouth")
+    assert p.returncode == 0, p.stderr
+    source = [load_image(samples.path("126")), load_image(samples.path("126", "smile"))]
+    for name, target in (("a.png", "003"), ("b.png", "001")):
+        target_photo = load_image(samples.path(target))
+        expected = exprclone.clone(*source, target_photo, method="global", global_warp="rbf", strength=0.5, only="mouth")
+        plain = exprclone.clone(*source, target_photo, method="global")
+        assert np.array_equal(pixels(tmp_path / name), expected.image) and not np.array_equal(expected.image, plain.image)
+    p = run(path, "--strength", "3")
+    assert p.returncode == 2 and "--strength" in p.stderr and "from 0 to 2" in p.stderr
+
+
 class Counting:
     """Counts calls of a method of a class while it is patched in."""
 

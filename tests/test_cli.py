@@ -10,6 +10,8 @@ import pytest
 from conftest import neutral_path, smile_path
 from PIL import Image
 
+import exprclone
+
 SN, SE, TN = str(neutral_path("001")), str(smile_path("001")), str(neutral_path("003"))
 
 
@@ -158,3 +160,70 @@ def test_the_core_loads_no_outer_layer():
     code = f"import sys, exprclone.pipeline, exprclone.drive; print(sorted({outer} & {loaded}))"
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert p.returncode == 0 and p.stdout.strip() == "[]", p.stdout + p.stderr
+
+
+def test_clone_with_the_transfer_options(london, tmp_path):
+    out, record = tmp_path / "out.png", tmp_path / "out.json"
+    p = run("clone", SN, SE, TN, "-o", out, "--global-warp", "rbf", "--image-warp", "tps", "--strength", "0", "--save-json", record)
+    assert p.returncode == 0, p.stderr
+    assert "global warp rbf, image warp tps, strength 0" in p.stdout
+    assert np.abs(np.asarray(Image.open(out)).astype(int) - np.asarray(Image.open(TN))).max() <= 1  # strength 0: the target
+    assert json.loads(record.read_text())["options"] == {"global_warp": "rbf", "image_warp": "tps", "strength": 0.0, "only": None}
+
+
+def test_global_landmarks_equal_to_the_default_gi_give_the_default_image(pair, tmp_path):
+    """Fig. 21's setting from the command line: the GI of the default clone, given as a file, gives the same image."""
+    from exprclone.io.landmarks import write_landmarks
+
+    images, landmarks = pair
+    files = []
+    for role, lm in zip(("source-neutral", "source-expression", "target-neutral"), landmarks):
+        write_landmarks(tmp_path / f"{role}.json", lm)
+        files += [f"--{role}-landmarks", tmp_path / f"{role}.json"]
+    write_landmarks(tmp_path / "gi.json", exprclone.clone(*images, landmarks=landmarks).landmarks["global"])
+    assert run("clone", SN, SE, TN, "-o", tmp_path / "default.png", *files).returncode == 0
+    p = run("clone", SN, SE, TN, "-o", tmp_path / "given.png", *files, "--global-landmarks", tmp_path / "gi.json")
+    assert p.returncode == 0 and "global warp given" in p.stdout, p.stderr
+    assert np.array_equal(np.asarray(Image.open(tmp_path / "given.png")), np.asarray(Image.open(tmp_path / "default.png")))
+
+
+def test_compare_draws_figure_19(london, tmp_path):
+    out = tmp_path / "fig19.png"
+    p = run("compare", SN, SE, TN, "-o", out, "--figure", "19")
+    assert p.returncode == 0, p.stderr
+    assert Image.open(out).size == (6 * 320, 320) and "global warp rbf" in p.stdout
+
+
+@pytest.mark.parametrize(
+    "args,needle",
+    [
+        (["--strength", "3"], "--strength"),
+        (["--strength", "much"], "--strength"),
+        (["--only", "mouth,nose"], "unknown region 'nose'"),
+        (["--global-warp", "affine"], "invalid choice"),
+        (["--image-warp", "spline"], "invalid choice"),
+        (["--global-warp", "rbf", "--global-landmarks", "gi.json"], "not allowed with"),
+    ],
+)
+def test_bad_transfer_options(london, tmp_path, args, needle):
+    p = run("clone", SN, SE, TN, "-o", tmp_path / "r.png", *args)
+    assert p.returncode == 2 and needle in p.stderr, p.stderr
+    assert not (tmp_path / "r.png").exists()
+
+
+def test_a_global_landmark_file_with_the_wrong_count(pair, tmp_path):
+    bad = tmp_path / "gi.json"
+    bad.write_text(json.dumps({"landmarks": pair[1][2][:50].tolist()}))
+    expect_error(tmp_path, [SN, SE, TN, "--global-landmarks", bad], f"{bad}: found 50 landmarks")
+
+
+def test_evaluate_with_variants(london, tmp_path):
+    out = tmp_path / "report"
+    p = run("evaluate", "--data", london, "--pairs", "1", "--methods", "global,elastic", "--global-warps", "similarity,rbf", "--out", out)
+    assert p.returncode == 0, p.stderr
+    rows = (out / "pairs.csv").read_text().splitlines()
+    assert len(rows) == 1 + 2 + 2 * 2  # header, the references, then two methods in two variants
+    assert "| elastic [rbf] | 1 | 0 |" in p.stdout and "| global [rbf] - global | 1 |" in p.stdout
+    assert "## Pair by pair" in (out / "summary.md").read_text() and "| elastic [rbf] - global [rbf] | 1 |" in p.stdout
+    p = run("evaluate", "--data", london, "--global-warps", "affine", "--out", tmp_path / "r")
+    assert p.returncode == 2 and "unknown global warp 'affine'" in p.stderr

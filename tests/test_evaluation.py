@@ -6,7 +6,7 @@ import pytest
 
 from exprclone import geometry
 from exprclone.evaluation.london import Dataset
-from exprclone.evaluation.report import smile_strength, summarise
+from exprclone.evaluation.report import contrast_table, contrasts, smile_strength, summarise, variants
 from exprclone.evaluation.scores import SAME_PERSON, TEETH_SHOWN, FaceDescriptor, identity_distance, landmark_error, teeth
 from exprclone.layout import DLIB68
 
@@ -122,21 +122,27 @@ def test_summary_counts_failures_and_never_drops_them():
     assert summarise(rows, strong_only=True)[0]["pairs"] == 1
 
 
+def scored(method, pair, mouth, identity=0.3, variant="", failed="", teeth=0.0, source_teeth=0.0):
+    """A row of pairs.csv with the scores that matter here."""
+    return dict(
+        source=pair[0],
+        target=pair[1],
+        method=method,
+        target_smile=0.1,
+        failed=failed,
+        overall=mouth,
+        mouth=mouth,
+        eyes_brows=mouth,
+        identity=identity,
+        teeth="" if failed else teeth,
+        source_teeth=source_teeth,
+        variant=variant,
+    )
+
+
 def test_summary_counts_teeth_against_the_source():
     def row(method, pair, teeth, source_teeth, failed=""):
-        return dict(
-            source=pair[0],
-            target=pair[1],
-            method=method,
-            target_smile=0.1,
-            failed=failed,
-            overall=0.02,
-            mouth=0.02,
-            eyes_brows=0.02,
-            identity=0.3,
-            teeth="" if failed else teeth,
-            source_teeth=source_teeth,
-        )
+        return scored(method, pair, 0.02, failed=failed, teeth=teeth, source_teeth=source_teeth)
 
     shows, closed = 2 * TEETH_SHOWN, 0.0
     rows = [
@@ -154,3 +160,36 @@ def test_summary_counts_teeth_against_the_source():
     assert (e["closed_sources"], e["teeth_invented"]) == (2, pytest.approx(1 / 2))
     assert (g["teeth_sources"], g["teeth_kept"], g["closed_sources"], g["teeth_invented"]) == (1, 0.0, 1, 0.0)
     assert e["failed"] == 1
+
+
+def test_variants_pair_with_global_in_their_own_variant_and_with_the_paper():
+    rows = [
+        scored("global", "ab", 0.04, 0.30),
+        scored("elastic", "ab", 0.05, 0.31),
+        scored("global", "ac", 0.02, 0.20),
+        scored("elastic", "ac", 0.02, 0.25),
+        scored("global [rbf]", "ab", 0.03, 0.28, " [rbf]"),
+        scored("elastic [rbf]", "ab", 0.01, 0.29, " [rbf]"),
+        scored("global [rbf]", "ac", 0.01, 0.20, " [rbf]"),
+        scored("elastic [rbf]", "ac", 0.0, 0.0, " [rbf]", failed="no face found"),
+    ]
+    by_method = {s["method"]: s for s in summarise(rows)}
+    assert by_method["elastic"]["mouth_vs_baseline"] == pytest.approx((0.01 + 0.0) / 2)
+    assert by_method["elastic [rbf]"]["mouth_vs_baseline"] == pytest.approx(0.01 - 0.03)  # ac failed: left out
+    lines = {c["compared"]: c for c in contrasts(rows)}
+    assert list(lines) == ["elastic - global", "elastic [rbf] - global [rbf]", "global [rbf] - global", "elastic [rbf] - elastic"]
+    assert lines["elastic - global"]["pairs"] == 2 and lines["elastic - global"]["mouth_mean"] == pytest.approx(0.005)
+    assert lines["elastic [rbf] - global [rbf]"]["pairs"] == 1 and lines["elastic [rbf] - global [rbf]"]["mouth_mean"] == pytest.approx(
+        -0.02
+    )
+    g = lines["global [rbf] - global"]
+    assert g["pairs"] == 2 and g["mouth_mean"] == pytest.approx((-0.01 - 0.01) / 2) and g["identity_mean"] == pytest.approx(-0.01)
+    assert lines["elastic [rbf] - elastic"]["pairs"] == 1 and lines["elastic [rbf] - elastic"]["mouth_mean"] == pytest.approx(-0.04)
+    assert "| global [rbf] - global | 2 | -0.0100 ± 0.0000 |" in contrast_table(contrasts(rows))
+
+
+def test_variants_are_every_combination_named_after_their_options():
+    chosen = variants(("similarity", "rbf"), ("mesh", "tps"), (1.0,))
+    assert [label for label, _ in chosen] == ["", " [tps]", " [rbf]", " [rbf, tps]"]
+    assert chosen[3][1] == {"global_warp": "rbf", "image_warp": "tps", "strength": 1.0}
+    assert [label for label, _ in variants(strengths=(0.5, 1.0))] == ["", " [S=0.5]"]

@@ -63,3 +63,32 @@ def test_a_photo_without_a_face_is_named_in_the_error(page, tmp_path):
     page.wait_for_function("document.querySelector('#busy').hidden", timeout=CLONE_TIMEOUT)  # the answer came, and the page is usable again
     assert page.is_visible("#error") and page.is_enabled("#clone")
     assert page.text_content("#error").startswith("target neutral: no face found")
+
+
+def test_the_transfer_controls_reach_the_clone(page):
+    set_photos(page, samples.path("003"))
+    page.select_option("#global-warp", "rbf")
+    page.select_option("#image-warp", "tps")
+    page.fill("#strength", "0.5")
+    page.uncheck(".region[value=eyes]")
+    page.evaluate("document.querySelector('img#result').removeAttribute('src')")
+    page.click("#clone")
+    page.wait_for_function(
+        "document.querySelector('#busy').hidden && document.querySelector('img#result').naturalWidth > 0", timeout=CLONE_TIMEOUT
+    )
+    caption = page.text_content("#result-caption")
+    assert "global warp rbf" in caption and "tps" in caption and "strength 0.5" in caption and "only mouth, brows" in caption, caption
+    page.check(".region[value=eyes]")
+    page.select_option("#global-warp", "")
+    page.select_option("#image-warp", "mesh")
+    page.fill("#strength", "1")
+
+
+def test_compare_draws_figure_19(page):
+    set_photos(page, samples.path("003"))
+    page.select_option("#figure", "19")
+    page.evaluate("document.querySelector('#sheet').removeAttribute('src')")
+    page.click("#compare")
+    page.wait_for_function("document.querySelector('#sheet').naturalWidth > 0", timeout=CLONE_TIMEOUT)
+    assert page.evaluate("document.querySelector('#sheet').naturalWidth") == 6 * 320
+    assert "Figs. 19-21" in page.text_content("#sheet-caption")

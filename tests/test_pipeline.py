@@ -113,3 +113,68 @@ def test_photos_of_different_sizes(pair):
     full = exprclone.clone(sn, se, target, method="global", landmarks=pair[1])
     width = lambda p: np.linalg.norm(p[54] - p[48])  # noqa: E731
     assert width(r.landmarks["global"]) == pytest.approx(width(full.landmarks["global"]), rel=0.03)
+
+
+def test_given_global_landmarks_equal_to_the_default_gi_give_the_default_result(pair, results):
+    """Fig. 21's setting: GI from outside, refined by the elastic model; given our own GI, our own result."""
+    images, landmarks = pair
+    given = exprclone.clone_methods(*images, landmarks=landmarks, global_landmarks=results["global"].landmarks["global"])
+    for method, r in given.items():
+        assert np.array_equal(r.image, results[method].image), method
+        assert r.lambda_k == results[method].lambda_k and r.options.global_stage == "given"
+
+
+def test_other_global_landmarks_are_refined_by_the_elastic_model(pair, results):
+    images, landmarks = pair
+    gi = results["global"].landmarks["global"] + np.random.default_rng(0).normal(0, 2, (68, 2))
+    given = exprclone.clone_methods(*images, ("global", "elastic"), 1.0, landmarks, global_landmarks=gi)
+    assert np.array_equal(given["global"].landmarks["global"], gi)
+    assert not np.allclose(given["elastic"].landmarks["elastic"], gi)  # moved towards its own LI
+
+
+def test_the_rbf_global_warp_runs_every_method(pair, results):
+    images, landmarks = pair
+    rbf = exprclone.clone_methods(*images, landmarks=landmarks, global_warp="rbf")
+    for method, r in rbf.items():
+        assert r.image.shape == images[2].shape and r.options.global_warp == "rbf", method
+    assert not np.allclose(rbf["global"].landmarks["global"], results["global"].landmarks["global"])
+    # local re-shaping starts from the RBF GI, and the DB metric measures against it
+    assert np.array_equal(rbf["e+md"].landmarks["global"], rbf["global"].landmarks["global"])
+
+
+def test_the_tps_image_warp_takes_the_same_geometry(pair, results):
+    images, landmarks = pair
+    tps = exprclone.clone_methods(*images, ("global", "e+md"), landmarks=landmarks, image_warp="tps")
+    for method, r in tps.items():
+        assert np.array_equal(r.landmarks["final"], results[method].landmarks["final"]), method
+        assert not np.array_equal(r.image, results[method].image), method
+
+
+@pytest.mark.parametrize(
+    "options, subject, problem",
+    [
+        (dict(global_warp="affine"), "global_warp", "unknown global warp 'affine'"),
+        (dict(image_warp="spline"), "image_warp", "unknown image warp 'spline'"),
+        (dict(strength=2.5), "strength", "must be a number from 0 to 2"),
+        (dict(strength="strong"), "strength", "must be a number from 0 to 2"),
+        (dict(only="nose"), "only", "unknown region 'nose'"),
+        (dict(only=()), "only", "unknown region ''"),
+        (dict(global_landmarks=np.zeros((60, 2))), "global_landmarks", "found 60 landmarks, expected 68"),
+        (dict(global_landmarks=np.full((68, 2), 5000.0)), "global_landmarks", "landmark 0 at (5000, 5000) is outside"),
+        (dict(global_landmarks=np.full((68, 2), 50.0), global_warp="rbf"), "global_landmarks", "given landmarks replace"),
+        (dict(speed=3), "speed", "not an option"),
+    ],
+)
+def test_bad_options_raise_the_project_error(pair, options, subject, problem):
+    images, landmarks = pair
+    with pytest.raises(exprclone.ExprCloneError) as caught:
+        exprclone.clone(*images, landmarks=landmarks, **options)
+    assert caught.value.subject == subject and caught.value.problem.startswith(problem), caught.value
+
+
+def test_the_registries_hold_every_option_value():
+    from exprclone import options, pipeline
+
+    assert set(pipeline.GLOBAL_WARPS) == {*options.GLOBAL_WARPS, options.GIVEN}
+    assert set(pipeline.IMAGE_WARPS) == set(options.IMAGE_WARPS)
+    assert options.REGIONS == tuple(DLIB68.regions)

@@ -16,9 +16,10 @@ from PIL import Image
 from server import Server
 
 import exprclone
+import exprclone.pipeline
 from exprclone import data as samples
 from exprclone.io.images import load_image
-from exprclone.io.landmarks import read_landmarks
+from exprclone.io.landmarks import read_landmarks, write_landmarks
 from exprclone.io.video import probe, read_frames
 from exprclone.layout import DLIB68
 from exprclone.lips import uncross
@@ -271,3 +272,77 @@ def test_ctrl_c_stops_the_server_and_removes_its_temporary_files():
     assert running.process.returncode == 0 and "stopped" in out, err
     assert not any(p.exists() for p in made)
     assert json.dumps(err).count("Traceback") == 0
+
+
+@pytest.fixture(scope="module")
+def sample_images():
+    images = [load_image(p) for p in PHOTOS.values()]
+    return images, [exprclone.pipeline.default_detector().detect(im) for im in images]
+
+
+def test_clone_with_the_transfer_options_answers_the_python_apis_image(client, sample_images):
+    images, landmarks = sample_images
+    options = dict(global_warp="rbf", image_warp="tps", strength=0.5, only=("mouth", "eyes"))
+    expected = exprclone.clone(*images, method="elastic+eri", landmarks=tuple(landmarks), **options)
+    form = {"method": "elastic+eri", "global_warp": "rbf", "image_warp": "tps", "strength": "0.5", "only": "mouth,eyes"}
+    r = client.post("/api/clone?format=json", files=files(), data=form)
+    assert r.status_code == 200, r.text
+    record = r.json()
+    assert record["options"] == {"global_warp": "rbf", "image_warp": "tps", "strength": 0.5, "only": ["mouth", "eyes"]}
+    image = np.asarray(Image.open(io.BytesIO(base64.b64decode(record["png"]))).convert("RGB"))
+    assert np.array_equal(image, expected.image)
+
+
+def test_strength_zero_answers_the_target(client, sample_images):
+    images, _ = sample_images
+    r = client.post("/api/clone", files=files(), data={"strength": "0"})
+    assert r.status_code == 200, r.text
+    assert np.abs(np.asarray(Image.open(io.BytesIO(r.content)).convert("RGB")).astype(int) - images[2]).max() <= 1
+
+
+def test_given_global_landmarks_as_a_file(client, sample_images, tmp_path):
+    """Fig. 21's setting over HTTP: the default GI, given as a file, gives the default result."""
+    images, landmarks = sample_images
+    default = exprclone.clone(*images, landmarks=tuple(landmarks))
+    write_landmarks(tmp_path / "gi.json", default.landmarks["global"])
+    r = client.post("/api/clone", files=files(global_landmarks=("gi.json", (tmp_path / "gi.json").read_bytes())))
+    assert r.status_code == 200, r.text
+    assert np.array_equal(np.asarray(Image.open(io.BytesIO(r.content)).convert("RGB")), default.image)
+
+
+def test_compare_draws_figure_19(client):
+    r = client.post("/api/compare", files=files(), data={"figure": "19"})
+    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (6 * 320, 320)
+
+
+@pytest.mark.parametrize(
+    "replaced, form, message",
+    [
+        ({}, {"global_warp": "affine"}, "global_warp: unknown global warp 'affine'"),
+        ({}, {"image_warp": "spline"}, "image_warp: unknown image warp 'spline'"),
+        ({}, {"strength": "3"}, "strength: "),
+        ({}, {"strength": "strong"}, "strength: "),
+        ({}, {"only": "nose"}, "only: unknown region 'nose'"),
+        ({}, {"figure": "12"}, "figure: must be 11 or 19"),
+        (dict(global_landmarks=("gi.json", b"[[1, 2]]")), {}, "global_landmarks: found 1 landmarks, expected 68"),
+        (dict(global_landmarks=("gi.txt", b"[]")), {}, "global_landmarks: a landmark file must be .json or .tem"),
+        (dict(global_landmarks=("gi.tem", samples.template("003").read_bytes())), {"global_warp": "rbf"}, "global_landmarks: given"),
+    ],
+)
+def test_bad_transfer_options_are_one_line_errors_naming_the_field(client, replaced, form, message):
+    r = client.post("/api/compare" if "figure" in form else "/api/clone", files=files(**replaced), data=form)
+    assert r.status_code == 400 and r.json()["error"].startswith(message), r.text
+
+
+def test_a_video_job_with_the_transfer_options(client):
+    form = {"size": "96", "method": "e+md", "global_warp": "rbf", "image_warp": "tps", "strength": "1.5", "only": "mouth"}
+    video_files = {"portrait": ("p.jpg", samples.path("003").read_bytes()), "driving_video": ("c.mp4", samples.clip().read_bytes())}
+    job = client.post("/api/video", files=video_files, data=form).json()
+    for _ in range(600):
+        state = client.get(job["status"]).json()
+        if state["state"] in ("done", "failed"):
+            break
+        time.sleep(0.2)
+    assert state["state"] == "done" and state["info"]["frames"] == 75, state
+    r = client.post("/api/video", files=video_files, data={"strength": "-1"})
+    assert r.status_code == 400 and r.json()["error"].startswith("strength: "), r.text

@@ -212,3 +212,21 @@ def test_a_recording_is_read_once_to_track_and_once_to_fetch(portrait, grid_clip
 
     recording = drive.prepare(portrait, None, open_frames, 25.0, neutral_frame="closed")
     assert len(passes) == 2 and recording.lambda_frames  # the neutral frame and the lambda_k frames in one pass
+
+
+def test_strength_and_the_other_options_drive_every_frame(portrait, grid_clip):
+    """Strength 0 holds the portrait still through the whole performance; the options reach the cloner."""
+    recording = prepare(portrait, grid_clip, neutral_frame="closed", strength=0, global_warp="rbf", image_warp="tps", only=("mouth",))
+    options = recording.driver.cloner.options
+    assert (options.strength, options.global_warp, options.image_warp, options.only) == (0.0, "rbf", "tps", ("mouth",))
+    frames = list(recording.frames(read_frames(grid_clip)))
+    assert len(frames) == 75 and max(np.abs(f.image.astype(int) - portrait).max() for f in frames) <= 1
+
+
+def test_the_command_takes_strength(grid_clip, tmp_path):
+    out = tmp_path / "weak.mp4"
+    p = run("video", PORTRAIT, grid_clip, "-o", out, "--size", 96, "--strength", "0.5", "--global-warp", "rbf", "--only", "mouth")
+    assert p.returncode == 0, p.stderr
+    assert probe(out).frames == 75
+    p = run("video", PORTRAIT, grid_clip, "-o", tmp_path / "bad.mp4", "--strength", "5")
+    assert p.returncode == 2 and "--strength" in p.stderr and not (tmp_path / "bad.mp4").exists()

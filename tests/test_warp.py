@@ -1,6 +1,7 @@
 import cv2
 import numpy as np
 import pytest
+from dots import assert_dots_land, dots, smooth_motion
 from scipy.spatial import Delaunay
 
 from exprclone import warp
@@ -27,22 +28,10 @@ def test_mesh_covers_the_whole_image_without_folds(pair):
 def test_landmarks_land_where_asked(pair):
     (_, _, target), (_, _, lm) = pair
     mesh = warp.build_mesh(lm, target.shape, DLIB68)
-    image = np.zeros(target.shape[:2], np.uint8)
-    for x, y in lm.round().astype(int):
-        image[y, x] = 255  # a one-pixel dot on every landmark
-    moved = lm + 8 * np.stack([np.sin(lm[:, 1] / 90), np.cos(lm[:, 0] / 70)], 1)  # smooth: folds nothing
+    moved = smooth_motion(lm)
     dst, n_fixed = warp.unfold(mesh.points, mesh.control_points(moved), mesh.triangles, mesh.n_moving)
     assert n_fixed == 0
-    out = warp.warp(image, mesh.points, dst, mesh.triangles)
-    expected = moved + (lm.round() - lm)  # each dot keeps its sub-pixel offset
-    separate = [i for i in range(68) if np.sort(np.linalg.norm(lm - lm[i], axis=1))[1] > 12]
-    assert len(separate) > 40
-    for x, y in expected[separate]:
-        xs, ys = int(round(x)), int(round(y))
-        window = out[ys - 3 : ys + 4, xs - 3 : xs + 4]
-        assert window.max() > 40
-        wy, wx = np.unravel_index(window.argmax(), window.shape)
-        assert np.hypot(xs - 3 + wx - x, ys - 3 + wy - y) <= 1.0
+    assert_dots_land(warp.warp(dots(target.shape, lm), mesh.points, dst, mesh.triangles), lm, moved)
 
 
 def test_forehead_moves_with_the_brows_and_border_stays(pair):

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ExprCloneError
+from .options import GLOBAL_WARPS, IMAGE_WARPS, STRENGTH_RANGE, Options
 
 
 def check_image(image: np.ndarray, subject: str) -> np.ndarray:
@@ -71,3 +72,50 @@ def check_points(points: np.ndarray, image_shape: tuple[int, ...], n_points: int
         x, y = points[i]
         raise ExprCloneError(subject, f"landmark {i} at ({x:g}, {y:g}) is outside the {w}x{h} image")
     return points
+
+
+def check_options(options: dict, n_points: int, target_shape: tuple[int, ...], regions: tuple[str, ...]) -> Options:
+    """The keyword options of a clone (:class:`exprclone.options.Options`), or ExprCloneError about the first bad one.
+
+    Parameters
+    ----------
+    options : dict
+        Any of ``global_warp``, ``global_landmarks``, ``image_warp``, ``strength``, ``only``
+        (a tuple of region names, or one comma-separated string).
+    n_points : int
+        Landmarks per face (for ``global_landmarks``).
+    target_shape : tuple of int
+        The target photo's shape: ``global_landmarks`` must lie inside it.
+    regions : tuple of str
+        The regions ``only`` may name (:attr:`exprclone.layout.Layout.regions`).
+
+    Returns
+    -------
+    Options
+    """
+    unknown = sorted(set(options) - set(Options.__dataclass_fields__))
+    if unknown:
+        raise ExprCloneError(unknown[0], f"not an option; choose from {', '.join(Options.__dataclass_fields__)}")
+    o = Options(**options)
+    for subject, value, allowed in (("global_warp", o.global_warp, GLOBAL_WARPS), ("image_warp", o.image_warp, IMAGE_WARPS)):
+        if value not in allowed:
+            raise ExprCloneError(subject, f"unknown {subject.replace('_', ' ')} {value!r}; choose one of: {', '.join(allowed)}")
+    given = None if o.global_landmarks is None else check_points(o.global_landmarks, target_shape, n_points, "global_landmarks")
+    if given is not None and o.global_warp != GLOBAL_WARPS[0]:
+        raise ExprCloneError("global_landmarks", f"given landmarks replace the global warp; drop global_warp={o.global_warp!r}")
+    low, high = STRENGTH_RANGE
+    if isinstance(o.strength, bool) or not isinstance(o.strength, (int, float)) or not low <= o.strength <= high:
+        raise ExprCloneError("strength", f"must be a number from {low:g} to {high:g}, got {o.strength!r}")
+    return Options(o.global_warp, given, o.image_warp, float(o.strength), check_regions(o.only, regions))
+
+
+def check_regions(only: tuple[str, ...] | str | None, regions: tuple[str, ...]) -> tuple[str, ...] | None:
+    """``only`` as a tuple of known region names without repeats (a comma-separated string is split), or None for all
+    (also when it names every region: the whole face)."""
+    if only is None:
+        return None
+    names = tuple(n.strip() for n in only.split(",")) if isinstance(only, str) else tuple(only)
+    bad = [n for n in names if n not in regions]
+    if not names or bad:
+        raise ExprCloneError("only", f"unknown region {bad[0] if bad else ''!r}; choose from: {', '.join(regions)}")
+    return None if set(names) == set(regions) else tuple(dict.fromkeys(names))

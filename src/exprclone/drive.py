@@ -31,7 +31,7 @@ import cv2
 import numpy as np
 
 from . import geometry, global_warp, mouth, tracking
-from .checks import check_image, check_lambda
+from .checks import check_image, check_lambda, check_options
 from .eigenface import Eigenfaces
 from .errors import ExprCloneError, NoFaceError
 from .landmarks import Detector
@@ -43,6 +43,8 @@ from .pipeline import Cloner, CloneResult, default_detector
 LAMBDA_FRAMES = 5
 #: the frames that choose lambda_k are at least this many seconds apart.
 LAMBDA_SPACING = 0.5
+#: the keyword options of :func:`prepare` that go to the :class:`Driver`; the others go to the :class:`Cloner`.
+DRIVER_OPTIONS = ("head_motion", "mouth")
 
 
 @dataclass
@@ -290,11 +292,14 @@ def prepare(
     name : str
         What the performance is, for errors (a role, or the caller's file name).
     **options
-        ``head_motion``, ``mouth``: as for :class:`Driver`.
+        ``head_motion``, ``mouth``: as for :class:`Driver`; ``global_warp``,
+        ``image_warp``, ``strength``, ``only``: as for :class:`Cloner` (the options of
+        :class:`exprclone.options.Options`), for every frame.
     """
     elastic = lookup((method,))[0].uses_lambda
     check_lambda(lambda_k)
     target = check_image(target, "target_neutral")
+    check_options({k: v for k, v in options.items() if k not in DRIVER_OPTIONS}, layout.n_points, target.shape, tuple(layout.regions))
     detector = detector or default_detector()
     track = tracking.track(open_frames(), detector, name)
     points = tracking.smooth(track.points, fps) if smooth else track.points
@@ -313,7 +318,8 @@ def prepare(
     if index is not None:
         neutral_image = fetched.pop(0)
     target_points = detector.detect(target, "target_neutral") if target_points is None else target_points
-    cloner = Cloner(neutral_image, neutral_points, target, target_points, eigenfaces=eigenfaces, layout=layout)
+    driver_options = {k: options.pop(k) for k in DRIVER_OPTIONS if k in options}
+    cloner = Cloner(neutral_image, neutral_points, target, target_points, eigenfaces=eigenfaces, layout=layout, **options)
     if chosen:
         lambda_k = choose_lambda(cloner, fetched, [points[i] for i in chosen])
-    return Recording(Driver(cloner, method, lambda_k, **options), track, points, index, chosen)
+    return Recording(Driver(cloner, method, lambda_k, **driver_options), track, points, index, chosen)

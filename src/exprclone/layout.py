@@ -73,6 +73,20 @@ class Layout:
             "mouth": self.mouth_outer + self.mouth_inner,
         }
 
+    @property
+    def regions(self) -> dict[str, tuple[int, ...]]:
+        """Regions whose motion can be transferred alone (``only``, :mod:`exprclone.transfer`): the mouth, the eyes, the brows.
+
+        The other landmarks (jaw, nose) belong to no region: they follow the regions
+        around them.
+        """
+        organs = self.organs
+        return {
+            "mouth": organs["mouth"],
+            "eyes": organs["right_eye"] + organs["left_eye"],
+            "brows": organs["right_brow"] + organs["left_brow"],
+        }
+
 
 def _r(a: int, b: int) -> tuple[int, ...]:
     return tuple(range(a, b))

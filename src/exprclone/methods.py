@@ -69,6 +69,9 @@ TABLE = (
 )
 #: the methods' names, in the order of Fig. 11.
 METHODS = tuple(m.name for m in TABLE)
+#: the paper's figures that compare methods (``exprclone compare --figure``): Fig. 11 (with Figs. 12-13), the seven
+#: methods; Fig. 19 (with Figs. 20-21), the elastic model on the result of another global warp.
+FIGURES = ("11", "19")
 BY_NAME = {m.name: m for m in TABLE}
 
 

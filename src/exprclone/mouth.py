@@ -390,6 +390,7 @@ def fill_interior(
     source_landmarks: np.ndarray,
     reference: Reference,
     layout: Layout,
+    amount: float = 1.0,
 ) -> tuple[np.ndarray, np.ndarray | None]:
     """Paste the source's mouth interior inside the target's final inner lips.
 
@@ -405,16 +406,19 @@ def fill_interior(
         The target's own photo (and the source's neutral photo), measured for the
         tone, sharpness and noise match.
     layout : Layout
+    amount : float
+        Share of the source's mouth motion transferred, at most 1 (expression strength,
+        :attr:`exprclone.transfer.Transfer.paste`): the paste's weight is scaled by it.
 
     Returns
     -------
     image : ndarray of shape (H, W, 3), uint8
         Unchanged (the same array) when either mouth is closed, or the source's shows
-        too little of its interior (:data:`OPENING`, :data:`INTERIOR`).
+        too little of its interior (:data:`OPENING`, :data:`INTERIOR`), or ``amount`` is 0.
     mask : ndarray of shape (H, W) or None
         Weight of the pasted interior, None when nothing was pasted.
     """
-    weight = fade_in(opening(final, layout), OPENING) * fade_in(opening(source_landmarks, layout), OPENING)
+    weight = fade_in(opening(final, layout), OPENING) * fade_in(opening(source_landmarks, layout), OPENING) * amount
     if weight == 0:
         return image, None
     gain = tone_gain(source, source_landmarks, reference, layout)

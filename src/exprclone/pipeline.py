@@ -3,7 +3,12 @@
 Stages: landmarks -> shape stages (global warping GI, local warping LI, the elastic
 model with lambda_k by the DB metric; :data:`SHAPE_STAGES`) -> geometric warp FI ->
 details (ERI, MD model, mouth interior) -> F_IMG. What each method runs is read from its
-row of :data:`exprclone.methods.TABLE`.
+row of :data:`exprclone.methods.TABLE`; how its stages run, from the
+:class:`~exprclone.options.Options` of the :class:`Cloner`: which global warp gives GI
+(:data:`GLOBAL_WARPS`: the paper's, Seol and Lewis's RBF transfer, or landmarks given
+by any other method, which the elastic model refines as in the paper's Figs. 19-21),
+which image warp gives FI (:data:`IMAGE_WARPS`), and how much of the expression is
+transferred (:mod:`exprclone.transfer`).
 """
 
 from __future__ import annotations
@@ -14,13 +19,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import elastic, eri, geometry, global_warp, lips, local_warp, metric, muscle, raster, warp
+from . import elastic, eri, geometry, global_warp, lips, local_warp, metric, muscle, raster, tps, warp
 from . import mouth as mouth_fill
-from .checks import check_image, check_lambda, check_points
+from .checks import check_image, check_lambda, check_options, check_points
 from .eigenface import Eigenfaces
 from .landmarks import Detector
 from .layout import DLIB68, Layout
 from .methods import METHODS, SHAPES, Method, lookup
+from .options import GIVEN, Options
+from .transfer import Transfer
 
 #: the three photos' roles, as errors name them.
 ROLES = ("source_neutral", "source_expression", "target_neutral")
@@ -56,6 +63,8 @@ class CloneResult:
         (:mod:`exprclone.mouth`; methods with ERI), None when nothing was pasted.
     unfolded_points : int
         Control points moved to stop triangles folding over.
+    options : Options
+        How it was made beyond its method: the global and image warps, strength and regions.
     """
 
     image: np.ndarray
@@ -68,6 +77,7 @@ class CloneResult:
     muscle_strengths: np.ndarray | None = None
     mouth_mask: np.ndarray | None = None
     unfolded_points: int = 0
+    options: Options = Options()
 
 
 @functools.cache
@@ -104,7 +114,9 @@ def clone(
     landmarks : tuple of three (N, 2) arrays or None, optional
         Known landmarks for each photo; None entries are detected.
     **options
-        ``detector``, ``eigenfaces``, ``layout``, ``mouth``: see :func:`clone_methods`.
+        ``detector``, ``eigenfaces``, ``layout``, ``mouth``, and the options of
+        :class:`~exprclone.options.Options` (``global_warp``, ``global_landmarks``,
+        ``image_warp``, ``strength``, ``only``): see :func:`clone_methods`.
 
     Returns
     -------
@@ -113,7 +125,7 @@ def clone(
     Raises
     ------
     ExprCloneError
-        A bad input, its ``subject`` the photo's role (:data:`ROLES`), ``method`` or ``lambda``.
+        A bad input, its ``subject`` the photo's role (:data:`ROLES`), ``method``, ``lambda`` or the option's name.
     """
     return clone_methods(source_neutral, source_expression, target_neutral, (method,), lambda_k, landmarks, **options)[method]
 
@@ -130,6 +142,7 @@ def clone_methods(
     eigenfaces: Eigenfaces | None = None,
     layout: Layout = DLIB68,
     mouth: bool = True,
+    **options,
 ) -> dict[str, CloneResult]:
     """Several methods at once, sharing the stages they have in common (Fig. 5).
 
@@ -147,6 +160,18 @@ def clone_methods(
     mouth : bool
         Fill an opened mouth with the source's mouth interior (teeth) in the methods
         with ERI (:mod:`exprclone.mouth`); False leaves the stretched lips.
+    **options
+        The :class:`~exprclone.options.Options` of the clone:
+
+        - ``global_warp``: ``"similarity"`` (the paper's GI, the default) or ``"rbf"``
+          (Seol and Lewis's RBF transfer, the paper's Figs. 19-20);
+        - ``global_landmarks``: ``(N, 2)`` landmarks of the target's expression made by
+          any other method, taken as GI (the paper's Fig. 21);
+        - ``image_warp``: ``"mesh"`` (piecewise-affine, the default) or ``"tps"``
+          (thin-plate spline);
+        - ``strength``: from 0 (the target as it is) to 2, 1 by default;
+        - ``only``: region names (``"mouth"``, ``"eyes"``, ``"brows"``) whose motion
+          alone is transferred, None (the default) for the whole face.
 
     Returns
     -------
@@ -161,7 +186,7 @@ def clone_methods(
         detector.detect(im, role) if p is None else check_points(p, im.shape, layout.n_points, role)
         for im, p, role in zip(images, given, ROLES)
     )
-    cloner = Cloner(images[0], s_neu, images[2], t_neu, eigenfaces=eigenfaces, layout=layout)
+    cloner = Cloner(images[0], s_neu, images[2], t_neu, eigenfaces=eigenfaces, layout=layout, **options)
     return cloner.clone_methods(images[1], s_exp, methods, lambda_k, mouth=mouth)
 
 
@@ -192,9 +217,32 @@ class Rendered:
     unfolded: int
 
 
+def similarity_warp(cloner: "Cloner", expression: Expression) -> np.ndarray:
+    """GI of the paper: the source's motion, similarity-aligned, on the target (:func:`global_warp.global_landmarks`)."""
+    return global_warp.global_landmarks(cloner.s_neu, expression.points, cloner.t_neu, cloner.layout)
+
+
+def rbf_warp(cloner: "Cloner", expression: Expression) -> np.ndarray:
+    """GI of Seol and Lewis: each landmark's motion by the RBF map's Jacobian (:func:`global_warp.rbf_landmarks`)."""
+    return global_warp.rbf_landmarks(cloner.s_neu, expression.points, cloner.t_neu, cloner.layout, cloner.rbf_jacobians)
+
+
+def given_warp(cloner: "Cloner", expression: Expression) -> np.ndarray:
+    """GI given from outside, the result of any other method (Fig. 21)."""
+    return cloner.options.global_landmarks
+
+
+#: the global warps by name (:attr:`Options.global_stage`), each ``(cloner, expression) -> GI landmarks``.
+GLOBAL_WARPS: dict[str, Callable[["Cloner", Expression], np.ndarray]] = {
+    "similarity": similarity_warp,
+    "rbf": rbf_warp,
+    GIVEN: given_warp,
+}
+
+
 def global_stage(cloner: "Cloner", expression: Expression, shapes: dict[str, Shape]) -> Shape:
-    """GI: the source's motion, similarity-aligned, on the target (:func:`global_warp.global_landmarks`)."""
-    return Shape(global_warp.global_landmarks(cloner.s_neu, expression.points, cloner.t_neu, cloner.layout))
+    """GI: by the global warp of the cloner's options (:data:`GLOBAL_WARPS`)."""
+    return Shape(GLOBAL_WARPS[cloner.options.global_stage](cloner, expression))
 
 
 def local_stage(cloner: "Cloner", expression: Expression, shapes: dict[str, Shape]) -> Shape:
@@ -225,6 +273,25 @@ SHAPE_STAGES: dict[str, Callable[["Cloner", Expression, dict[str, Shape]], Shape
 }
 
 
+def mesh_warp(image: np.ndarray, src: np.ndarray, dst: np.ndarray, mesh: warp.Mesh, out_shape: tuple[int, int] | None = None) -> np.ndarray:
+    """The piecewise-affine warp over the mesh's triangles (:func:`warp.warp`), the paper's."""
+    return warp.warp(image, src, dst, mesh.triangles, out_shape)
+
+
+def tps_warp(image: np.ndarray, src: np.ndarray, dst: np.ndarray, mesh: warp.Mesh, out_shape: tuple[int, int] | None = None) -> np.ndarray:
+    """The thin-plate spline through the mesh's control points (:func:`tps.warp`), its grid refined by :func:`tps_refine`."""
+    return tps.warp(image, src, dst, out_shape, tps_refine(mesh))
+
+
+def tps_refine(mesh: warp.Mesh) -> tuple[tuple[np.ndarray, int], ...]:
+    """Where the TPS warp evaluates its spline on finer grids: the face (the moving control points), then the mouth."""
+    return (np.arange(mesh.n_moving), tps.FACE_STEP), (mesh.mouth, tps.MOUTH_STEP)
+
+
+#: the image warps by name (:attr:`Options.image_warp`), each ``(image, src, dst, mesh, out_shape) -> image``.
+IMAGE_WARPS: dict[str, Callable[..., np.ndarray]] = {"mesh": mesh_warp, "tps": tps_warp}
+
+
 def ratio_image(
     mesh: warp.Mesh,
     dst: np.ndarray,
@@ -232,8 +299,9 @@ def ratio_image(
     source_ctrl: list[np.ndarray],
     shape: tuple[int, ...],
     layout: Layout,
+    image_warp: Callable[..., np.ndarray] = mesh_warp,
 ) -> tuple[np.ndarray, tuple[slice, slice]]:
-    """The ERI of the source's two photos in the target's final geometry ``dst``.
+    """The ERI of the source's two photos in the target's final geometry ``dst``, warped by ``image_warp`` (:data:`IMAGE_WARPS`).
 
     The ratio is 1 off the face, so it is computed in the face's box only.
 
@@ -249,7 +317,7 @@ def ratio_image(
     size = (rows.stop - rows.start, cols.stop - cols.start)
     local = dst - (cols.start, rows.start)
     # the ratio needs the luma only: one channel to warp instead of three
-    neutral, expression = (warp.warp(raster.luma(img), c, local, mesh.triangles, size) for img, c in zip(sources, source_ctrl))
+    neutral, expression = (image_warp(raster.luma(img), c, local, mesh, size) for img, c in zip(sources, source_ctrl))
     mask = eri.ratio_mask(size, local[: mesh.n_landmarks], local[mesh.forehead], layout)
     out = np.ones(shape[:2], np.float32)
     out[box] = eri.expression_ratio(neutral, expression, mask, iod)
@@ -273,6 +341,9 @@ class Cloner:
     eigenfaces : Eigenfaces, optional
         Basis of the DB metric; the packaged one by default.
     layout : Layout
+    **options
+        The :class:`~exprclone.options.Options` of every clone it makes (see
+        :func:`clone_methods`), checked here (:func:`exprclone.checks.check_options`).
     """
 
     def __init__(
@@ -284,15 +355,24 @@ class Cloner:
         *,
         eigenfaces: Eigenfaces | None = None,
         layout: Layout = DLIB68,
+        **options,
     ) -> None:
         self.layout = layout
+        self.options = check_options(options, layout.n_points, target_neutral.shape, tuple(layout.regions))
+        self.image_warp = IMAGE_WARPS[self.options.image_warp]
         self.source_image, self.target_image = source_neutral, target_neutral
         self.s_neu = lips.uncross(source_neutral_points, layout)
         self.t_neu = lips.uncross(target_neutral_points, layout)
+        self.transfer = Transfer.build(self.options, self.t_neu, target_neutral.shape, layout)
         self.eigenfaces = eigenfaces
         self.mesh = warp.build_mesh(self.t_neu, target_neutral.shape, layout)
         self.neighbours = self.mesh.neighbours()
         self._source_neutral_ctrl = self.mesh.control_points(self.s_neu, geometry.fit_rigid(self.t_neu, self.s_neu, layout))
+
+    @functools.cached_property
+    def rbf_jacobians(self) -> np.ndarray:
+        """The RBF map's Jacobian at each landmark, from the source's neutral face to the target's (:func:`global_warp.rbf_jacobians`)."""
+        return global_warp.rbf_jacobians(self.s_neu, self.t_neu, self.layout)
 
     @functools.cached_property
     def mouth_reference(self) -> mouth_fill.Reference:
@@ -325,17 +405,19 @@ class Cloner:
         return shapes
 
     def render(self, points: np.ndarray) -> Rendered:
-        """FI: the target photo warped to ``points`` (inner lips made valid, fold-overs relaxed)."""
+        """FI: the target photo warped to ``points``, their motion scaled as the options ask (:mod:`exprclone.transfer`;
+        inner lips made valid, fold-overs relaxed), by the options' image warp."""
         mesh = self.mesh
-        control = mesh.control_points(lips.uncross(points, self.layout))
+        control = mesh.control_points(lips.uncross(self.transfer.landmarks(points), self.layout))
         control, unfolded = warp.unfold(mesh.points, control, mesh.triangles, mesh.n_moving)
-        return Rendered(warp.warp(self.target_image, mesh.points, control, mesh.triangles), control, unfolded)
+        return Rendered(self.image_warp(self.target_image, mesh.points, control, mesh), control, unfolded)
 
     def ratio(self, control: np.ndarray, expression: Expression) -> tuple[np.ndarray, tuple[slice, slice]]:
         """The ERI: both source photos warped to the target's geometry ``control`` (Liu et al.), and the box where it is not 1."""
         placed = self.mesh.control_points(expression.points, geometry.fit_rigid(self.t_neu, expression.points, self.layout))
-        sources = (self.source_image, expression.image)
-        return ratio_image(self.mesh, control, sources, [self._source_neutral_ctrl, placed], self.target_image.shape, self.layout)
+        sources, shape = (self.source_image, expression.image), self.target_image.shape
+        ratio, box = ratio_image(self.mesh, control, sources, [self._source_neutral_ctrl, placed], shape, self.layout, self.image_warp)
+        return self.transfer.ratio(ratio, box), box
 
     def result(
         self,
@@ -352,7 +434,8 @@ class Cloner:
         landmarks.update({name: shapes[name].points for name in ("global", "local", method.shape)}, final=final)
         image, details = (rendered.image, {}) if not method.eri else self.details(method, expression, rendered.image, final, ratio, mouth)
         shape = shapes[method.shape]
-        return CloneResult(image, method.name, landmarks, shape.lambda_k, shape.db_curve, unfolded_points=rendered.unfolded, **details)
+        extra = dict(unfolded_points=rendered.unfolded, options=self.options)
+        return CloneResult(image, method.name, landmarks, shape.lambda_k, shape.db_curve, **extra, **details)
 
     def details(
         self,
@@ -384,6 +467,6 @@ class Cloner:
         if mouth:
             reference = self.mouth_reference
             image, details["mouth_mask"] = mouth_fill.fill_interior(
-                image, final, expression.image, expression.points, reference, self.layout
+                image, final, expression.image, expression.points, reference, self.layout, self.transfer.paste
             )
         return image, details

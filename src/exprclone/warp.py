@@ -57,6 +57,8 @@ class Mesh:
         For each forehead point, the brow landmark that carries it.
     lip_pairs : ndarray of shape (P, 2)
         For each mid-lip point, the two inner-lip landmarks it lies between.
+    mouth : ndarray of shape (M,)
+        The lips' control points: outer and inner lip landmarks, and the mid-lip points.
     """
 
     points: np.ndarray
@@ -64,6 +66,7 @@ class Mesh:
     n_landmarks: int
     brow_of_forehead: np.ndarray
     lip_pairs: np.ndarray
+    mouth: np.ndarray
 
     @property
     def forehead(self) -> slice:
@@ -147,7 +150,9 @@ def build_mesh(landmarks: np.ndarray, image_shape: tuple[int, ...], layout: Layo
     on_border = (triangles >= n_moving).all(axis=1)
     area = np.abs(signed_areas(points, triangles))
     triangles = triangles[~on_border | (area > 1e-6 * area.max())]
-    return Mesh(points, triangles, len(landmarks), brows, pairs)
+    first_mid = len(landmarks) + len(forehead)
+    mouth = np.array(layout.mouth_outer + layout.mouth_inner + tuple(range(first_mid, n_moving)))
+    return Mesh(points, triangles, len(landmarks), brows, pairs, mouth)
 
 
 def opened_mouth(points: np.ndarray, pairs: np.ndarray, first_mid: int, landmarks: np.ndarray, layout: Layout) -> np.ndarray:

@@ -20,11 +20,14 @@ from .manifest import Row
 
 @dataclass(frozen=True)
 class Options:
-    """The job's options, for rows that do not set their own (``method``, ``lambda``)."""
+    """The job's options: ``method`` and ``lambda_k`` for rows that do not set their own, and for every row the
+    mouth interior and the options of :class:`exprclone.options.Options` (``transfer``: global and image warp,
+    strength, regions; keywords of the :class:`~exprclone.pipeline.Cloner`)."""
 
     method: str = "e+md"
     lambda_k: float | str = "auto"
     mouth: bool = True
+    transfer: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -85,7 +88,9 @@ def clone_rows(task: Task) -> list[Outcome]:
         with warnings.catch_warnings(), naming({"source_neutral": first.source_neutral, "target_neutral": first.target_neutral}):
             warnings.simplefilter("ignore")
             neutral, target = load_image(first.source_neutral), load_image(first.target_neutral)
-            cloner = Cloner(neutral, task.landmarks[first.source_neutral], target, task.landmarks[first.target_neutral])
+            cloner = Cloner(
+                neutral, task.landmarks[first.source_neutral], target, task.landmarks[first.target_neutral], **task.options.transfer
+            )
     except ExprCloneError as e:
         return [Outcome(row.number, "failed", str(e)) for row in task.rows]
     outcomes = []

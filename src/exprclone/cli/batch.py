@@ -7,7 +7,7 @@ import os
 import sys
 
 from ..errors import ExprCloneError
-from .inputs import add_lambda, add_mouth
+from .inputs import add_lambda, add_mouth, add_transfer, transfer_options
 
 #: exit status when some rows failed (the others were done).
 EXIT_SOME_FAILED = 1
@@ -25,6 +25,7 @@ def add_parser(sub) -> None:
     b.add_argument("--method", choices=METHODS, default="e+md", help="for rows without their own method (default: e+md)")
     add_lambda(b, "for rows without their own lambda: auto (the DB metric) or a number (default: auto)")
     add_mouth(b)
+    add_transfer(b, given=False)
     b.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="worker processes (default: the number of cores)")
     b.add_argument("--scheduler", metavar="ADDRESS", help="run on this Dask cluster (tcp://HOST:8786) instead of local processes")
     b.add_argument("--cache", metavar="DIR", help="keep the photos' landmarks here between runs (by the photos' content)")
@@ -60,7 +61,7 @@ def run(args: argparse.Namespace) -> None:
     rows = rows_of(args)
     folder = Path(args.out or Path(args.manifest).resolve().parent)
     report = args.report or str(folder / "report.csv")
-    options = work.Options(args.method, args.lambda_k, args.mouth)
+    options = work.Options(args.method, args.lambda_k, args.mouth, transfer_options(args))
     backend = job.Dask(args.scheduler) if args.scheduler else job.Local(args.jobs)
     cache = None if args.cache is None else Path(args.cache)
     outcomes: dict = {}

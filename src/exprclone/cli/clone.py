@@ -36,4 +36,20 @@ def run(args: argparse.Namespace) -> None:
         record = json.dumps(result_record(result, names), indent=1).encode()
         atomic_write(args.save_json, lambda f: f.write(record))
     extra = "" if result.lambda_k is None else f", lambda_k={result.lambda_k:g}"
-    print(f"{args.output}: {args.method}{extra}")
+    print(f"{args.output}: {args.method}{extra}{describe(result.options)}")
+
+
+def describe(options) -> str:
+    """The options that are not the defaults, for the last line: ``, global warp rbf, strength 0.5``."""
+    from ..options import Options
+
+    default, said = Options(), []
+    if options.global_stage != default.global_stage:
+        said.append(f"global warp {options.global_stage}")
+    if options.image_warp != default.image_warp:
+        said.append(f"image warp {options.image_warp}")
+    if options.strength != default.strength:
+        said.append(f"strength {options.strength:g}")
+    if options.only is not None:
+        said.append(f"only {','.join(options.only)}")
+    return "".join(f", {s}" for s in said)

@@ -1,28 +1,38 @@
-"""``exprclone compare``: every method of Fig. 11 on one triple of photos, as the sheet of Figs. 11-13."""
+"""``exprclone compare``: every method of Fig. 11 on one triple of photos, as the sheet of Figs. 11-13; or Figs. 19-21."""
 
 from __future__ import annotations
 
 import argparse
 
 from ..errors import naming
+from ..methods import FIGURES
 from .inputs import add_inputs, load_inputs
 
 
 def add_parser(sub) -> None:
-    c = sub.add_parser("compare", help="the paper's Figs. 11-13 and the DB curve as one sheet")
+    c = sub.add_parser("compare", help="the paper's Figs. 11-13 and the DB curve as one sheet, or its Figs. 19-21")
     add_inputs(c)
     c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
+    c.add_argument(
+        "--figure",
+        choices=FIGURES,
+        default=FIGURES[0],
+        help="11: the seven methods, Figs. 12-13's differences and the DB curve (default); 19: the elastic model on the"
+        " RBF transfer's result (Figs. 19-20), or on --global-landmarks from another method (Fig. 21)",
+    )
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..evaluation.figures import sheet
+    from ..evaluation.figures import draw, figure_request
     from ..io.images import check_output_path, save_image
     from ..pipeline import clone_methods
 
     paths = [args.source_neutral, args.source_expression, args.target_neutral]
     check_output_path(args.output, paths)
     names, images, options = load_inputs(args)
+    methods, options = figure_request(args.figure, options)
     with naming(names):
-        results = clone_methods(*images, **options)
-    save_image(args.output, sheet(results, images[1]), inputs=paths)
-    print(f"{args.output}: 7 methods, lambda_k={results['e+md'].lambda_k:g}")
+        results = clone_methods(*images, methods, **options)
+    save_image(args.output, draw(args.figure, results, images), inputs=paths)
+    shown = f"{len(methods)} methods" if len(methods) > 2 else f"the elastic model on global warp {results['global'].options.global_stage}"
+    print(f"{args.output}: Fig. {args.figure}, {shown}, lambda_k={results['elastic'].lambda_k:g}")

@@ -7,6 +7,23 @@ import os
 import sys
 
 from ..errors import ExprCloneError
+from ..options import GLOBAL_WARPS, IMAGE_WARPS
+from .inputs import strength_arg
+
+
+def listed(parse, name: str):
+    """An argparse type: comma-separated values, each parsed by ``parse`` (a function, or the tuple of allowed words)."""
+
+    def parse_list(text: str) -> tuple:
+        values = tuple(v.strip() for v in text.split(","))
+        if isinstance(parse, tuple):
+            bad = [v for v in values if v not in parse]
+            if bad:
+                raise argparse.ArgumentTypeError(f"unknown {name} {bad[0]!r}; choose from: {', '.join(parse)}")
+            return tuple(dict.fromkeys(values))
+        return tuple(dict.fromkeys(parse(v) for v in values))
+
+    return parse_list
 
 
 def add_parser(sub) -> None:
@@ -22,6 +39,24 @@ def add_parser(sub) -> None:
     e.add_argument("--methods", default="all", help="comma-separated methods, or all (default)")
     e.add_argument("--out", default="report", help="report folder (default: report/)")
     e.add_argument("--jobs", type=int, default=1, help="processes to use (default 1)")
+    variants = "; every combination of --global-warps, --image-warps and --strengths is a variant, scored beside the others"
+    e.add_argument(
+        "--global-warps",
+        type=listed(GLOBAL_WARPS, "global warp"),
+        default=GLOBAL_WARPS[:1],
+        metavar="LIST",
+        help=f"comma-separated global warps ({', '.join(GLOBAL_WARPS)}; default similarity){variants}",
+    )
+    e.add_argument(
+        "--image-warps",
+        type=listed(IMAGE_WARPS, "image warp"),
+        default=IMAGE_WARPS[:1],
+        metavar="LIST",
+        help=f"comma-separated image warps ({', '.join(IMAGE_WARPS)}; default mesh)",
+    )
+    e.add_argument(
+        "--strengths", type=listed(strength_arg, "strength"), default=(1.0,), metavar="LIST", help="comma-separated strengths (default 1)"
+    )
 
 
 def run(args: argparse.Namespace) -> None:
@@ -29,8 +64,8 @@ def run(args: argparse.Namespace) -> None:
 
     from .. import data as samples
     from ..evaluation.london import Dataset
+    from ..evaluation.report import contrast_table, contrasts, summarise, table, variants, write_report
     from ..evaluation.report import run as score
-    from ..evaluation.report import summarise, table, write_report
     from ..methods import METHODS, lookup
     from ..progress import Bar
 
@@ -41,9 +76,14 @@ def run(args: argparse.Namespace) -> None:
         raise ExprCloneError("--methods", e.problem) from None
     data = Dataset.open(args.data or samples.london())
     pairs = data.pairs(args.pairs, args.seed)
-    rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=lambda total, what: Bar(sys.stderr, total, what))
+    chosen = variants(args.global_warps, args.image_warps, args.strengths)
+    bar = lambda total, what: Bar(sys.stderr, total, what)  # noqa: E731
+    rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=bar, variants=chosen)
     command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"
-    write_report(Path(args.out), data, rows, landmarks, methods, command)
+    write_report(Path(args.out), data, rows, landmarks, methods, command, chosen)
     print(table(summarise(rows)))
     print(f"strong smiles only:\n{table(summarise(rows, strong_only=True))}")
+    if contrasts(rows):
+        print(f"pair by pair:\n{contrast_table(contrasts(rows))}")
+        print(f"strong smiles only:\n{contrast_table(contrasts(rows, strong_only=True))}")
     print(f"report: {Path(args.out) / 'summary.md'}")

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from ..errors import ExprCloneError
+from ..options import GLOBAL_WARPS, IMAGE_WARPS, REGIONS, STRENGTH_RANGE
 
 #: the three photos' roles (as the core names them in errors) and their options' stems.
 ROLES = ("source_neutral", "source_expression", "target_neutral")
@@ -36,6 +37,27 @@ lambda_arg = word_or_number("auto", float)
 frame_arg = word_or_number("closed", int)
 
 
+def strength_arg(text: str) -> float:
+    """An argparse type: a number within :data:`exprclone.options.STRENGTH_RANGE`."""
+    low, high = STRENGTH_RANGE
+    try:
+        value = float(text)
+    except ValueError:
+        value = None
+    if value is None or not low <= value <= high:
+        raise argparse.ArgumentTypeError(f"expected a number from {low:g} to {high:g}, got {text!r}")
+    return value
+
+
+def regions_arg(text: str) -> tuple[str, ...]:
+    """An argparse type: comma-separated names of :data:`exprclone.options.REGIONS`."""
+    names = tuple(n.strip() for n in text.split(","))
+    bad = [n for n in names if n not in REGIONS]
+    if bad:
+        raise argparse.ArgumentTypeError(f"unknown region {bad[0]!r}; choose from: {', '.join(REGIONS)}")
+    return names
+
+
 def add_inputs(p: argparse.ArgumentParser) -> None:
     """The three photos, their optional landmark files and the clone options."""
     p.add_argument("source_neutral", help="photo of the source person, neutral")
@@ -51,6 +73,53 @@ def add_inputs(p: argparse.ArgumentParser) -> None:
         )
     add_eigenfaces(p)
     add_mouth(p)
+    add_transfer(p, given=True)
+
+
+def add_transfer(p: argparse.ArgumentParser, given: bool) -> None:
+    """The options of :class:`exprclone.options.Options`: the global and image warps, strength and regions
+    (``given``: also ``--global-landmarks``, the landmarks of one expression)."""
+    warps = p.add_mutually_exclusive_group()
+    warps.add_argument(
+        "--global-warp",
+        choices=GLOBAL_WARPS,
+        help="how the source's motion reaches the target (GI): similarity, the paper's (default), or rbf, by the local"
+        " Jacobian of a radial-basis-function map between the two neutral faces (Seol and Lewis; Figs. 19-20)",
+    )
+    if given:
+        warps.add_argument(
+            "--global-landmarks",
+            metavar="FILE",
+            help="the target's expression landmarks from any other method (.json or .tem), taken as GI and refined (Fig. 21)",
+        )
+    p.add_argument(
+        "--image-warp",
+        choices=IMAGE_WARPS,
+        help="how the photo follows its landmarks: mesh, piecewise-affine (default), or tps, a smooth thin-plate spline",
+    )
+    p.add_argument(
+        "--strength",
+        type=strength_arg,
+        metavar="S",
+        help="how much of the expression to transfer: 0 leaves the target as it is, 1 (default) all of it, up to 2",
+    )
+    p.add_argument(
+        "--only",
+        type=regions_arg,
+        metavar="REGIONS",
+        help=f"transfer the motion of these regions only ({','.join(REGIONS)}), the others held where they are",
+    )
+
+
+def transfer_options(args: argparse.Namespace, target_shape: tuple[int, ...] | None = None) -> dict:
+    """The options of :class:`exprclone.options.Options` given on the command line (``--global-landmarks`` read for a
+    target photo of ``target_shape``); those not given are left to the defaults."""
+    from ..io.landmarks import read_landmarks
+
+    given = getattr(args, "global_landmarks", None)
+    options = dict(global_warp=args.global_warp, image_warp=args.image_warp, strength=args.strength, only=args.only)
+    options["global_landmarks"] = None if given is None else read_landmarks(given, target_shape)
+    return {k: v for k, v in options.items() if v is not None}
 
 
 def add_lambda(p: argparse.ArgumentParser, help: str) -> None:
@@ -104,4 +173,7 @@ def load_inputs(args: argparse.Namespace) -> tuple[dict[str, str], list, dict]:
     files = [getattr(args, f"{role}_landmarks") for role in ROLES]
     landmarks = tuple(None if f is None else read_landmarks(f, im.shape) for f, im in zip(files, images))
     options = dict(lambda_k=args.lambda_k, landmarks=landmarks, eigenfaces=load_eigenfaces(args.eigenfaces), mouth=args.mouth)
+    options.update(transfer_options(args, images[2].shape))
+    if args.global_landmarks:
+        paths["global_landmarks"] = args.global_landmarks
     return paths, images, options

@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from ..errors import ExprCloneError
-from .inputs import add_eigenfaces, add_lambda, add_mouth, frame_arg
+from .inputs import add_eigenfaces, add_lambda, add_mouth, add_transfer, frame_arg, transfer_options
 
 #: the smallest ``--size``.
 MIN_SIZE = 16
@@ -38,6 +38,7 @@ def add_parser(sub) -> None:
     v.add_argument("--target-neutral-landmarks", metavar="FILE", help="landmarks of the portrait (.json or .tem) instead of detecting them")
     add_eigenfaces(v)
     add_mouth(v)
+    add_transfer(v, given=False)
 
 
 def prepare(args: argparse.Namespace, inputs: list[str]):
@@ -73,6 +74,7 @@ def prepare(args: argparse.Namespace, inputs: list[str]):
             eigenfaces=load_eigenfaces(args.eigenfaces),
             head_motion=args.head_motion,
             mouth=args.mouth,
+            **transfer_options(args),
         )
     return info, recording
 

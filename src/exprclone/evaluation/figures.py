@@ -7,6 +7,9 @@ over lambda_k with the chosen value marked.
 
 A difference image is the absolute luminance difference of two results, normalised so
 that its largest value is 255 ("normalizing the values to the range 0~255", Sec. IV).
+
+:func:`fig19` draws the paper's Figs. 19-21 instead: the elastic model on the result of
+another global warp (``exprclone compare --figure 19``).
 """
 
 from __future__ import annotations
@@ -15,11 +18,15 @@ import cv2
 import numpy as np
 
 from .. import raster
-from ..methods import METHODS, TABLE
+from ..methods import FIGURES, METHODS, TABLE
 from ..metric import DBCurve
 from ..pipeline import CloneResult
 
 CELL = 320
+#: the methods Figs. 19-21 show: the global warp's result, and the elastic model on it (no MD: the paper's target had no texture).
+FIG19 = ("global", "elastic")
+#: how each global warp is named in Figs. 19-21's panel (b).
+GLOBAL_NAMES = {"similarity": "similarity (Liu et al.)", "rbf": "RBF (Seol and Lewis)", "given": "given landmarks"}
 FIG13 = (
     ("local", "global"),
     ("elastic", "global"),
@@ -98,3 +105,45 @@ def sheet(results: dict[str, CloneResult], source_expression: np.ndarray) -> np.
     row2 += [blank, blank]
     row3 += [db_plot(results["e+md"].db_curve) if results["e+md"].db_curve is not None else blank, blank]
     return np.vstack([np.hstack(row1), np.hstack(row2), np.hstack(row3)])
+
+
+def fig19(results: dict[str, CloneResult], target_neutral: np.ndarray, source_expression: np.ndarray) -> np.ndarray:
+    """The paper's Figs. 19-20 (and 21) as one row: (a) the target's neutral face, (b) the result of the global warp
+    (RBF, or landmarks given by another method), (c) the elastic model on (b), (d) the source's expression; then
+    (c) - (b) and the DB curve of (c).
+
+    Parameters
+    ----------
+    results : dict of str to CloneResult
+        The methods of :data:`FIG19`, made with the global warp to show.
+    target_neutral, source_expression : ndarray of shape (H, W, 3)
+    """
+    gl, el = (results[m] for m in FIG19)
+    box = face_box(gl.landmarks["target_neutral"], target_neutral.shape)
+    src_box = face_box(gl.landmarks["source_expression"], source_expression.shape)
+    name = GLOBAL_NAMES[gl.options.global_stage]
+    lam = "chosen" if el.lambda_k is None else f"{el.lambda_k:g}"
+    row = [
+        cell(target_neutral[box], "(a) target, neutral"),
+        cell(gl.image[box], f"(b) global warp: {name}"),
+        cell(el.image[box], f"(c) elastic model on (b), lambda_k = {lam}"),
+        cell(source_expression[src_box], "(d) source expression"),
+        cell(difference(el.image[box], gl.image[box]), "(c) - (b)"),
+        db_plot(el.db_curve) if el.db_curve is not None else np.full((CELL, CELL, 3), 255, np.uint8),
+    ]
+    return np.hstack(row)
+
+
+def figure_request(figure: str, options: dict) -> tuple[tuple[str, ...], dict]:
+    """The methods and the clone options that ``figure`` (one of :data:`FIGURES`) needs: Fig. 19 shows the RBF
+    transfer unless another global warp, or landmarks, are asked for."""
+    if figure == FIGURES[0]:
+        return METHODS, options
+    if "global_warp" not in options and "global_landmarks" not in options:
+        options = dict(options, global_warp="rbf")
+    return FIG19, options
+
+
+def draw(figure: str, results: dict[str, CloneResult], images: list[np.ndarray]) -> np.ndarray:
+    """``figure`` (one of :data:`FIGURES`) of the results of :func:`figure_request`'s methods on the three photos."""
+    return sheet(results, images[1]) if figure == FIGURES[0] else fig19(results, images[2], images[1])

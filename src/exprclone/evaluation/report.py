@@ -15,6 +15,13 @@ A subtle real smile is a poor ground truth for a broad cloned one, so every tabl
 also given for the pairs whose target smiles strongly: B's mouth corners move apart by
 at least :data:`STRONG_SMILE` (20%) between B's two photos, relative to the outer-eye
 -corner distance (head motion removed).
+
+Variants: every method may also run with other options of the clone (another global
+warp, the TPS image warp, another strength; :func:`variants`), its rows named after the
+method and the variant (``e+md [rbf]``). Each row's paired mouth difference is to global
+warping in the same variant (is the elastic model better than the GI it starts from?),
+and :func:`contrasts` pairs each method in a variant with the same method in the
+paper's setting (is the RBF transfer better than the similarity one?).
 """
 
 from __future__ import annotations
@@ -22,6 +29,7 @@ from __future__ import annotations
 import contextlib
 import csv
 import functools
+import itertools
 import multiprocessing
 import time
 import warnings
@@ -60,7 +68,13 @@ FIELDS = (
     "teeth",
     "source_teeth",
     "lambda_k",
+    "variant",
 )
+#: the paper's setting: the variant of no options, whose rows carry the methods' bare names.
+PAPER = ("", {})
+#: methods compared with the result they refine, in each variant (:func:`contrasts`): the elastic model with the
+#: global warp it starts from (the paper's Figs. 19-21), E+MD with the global warp and ERI (its Table 1).
+REFINED = (("elastic", "global"), ("e+md", "global+eri"))
 
 
 @functools.lru_cache(maxsize=PHOTO_CACHE)
@@ -81,22 +95,57 @@ def smile_strength(neutral: np.ndarray, smile: np.ndarray) -> float:
     return float(width(aligned) / width(neutral) - 1.0)
 
 
-def _clone(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict) -> dict:
-    """A's smile cloned onto B by ``methods``, with the landmarks already found."""
+def variant_label(options: dict) -> str:
+    """What follows a method's name in a variant's rows: nothing in the paper's setting, else ``" [rbf, tps, S=1.5]"``.
+
+    Examples
+    --------
+    >>> variant_label({}), variant_label(dict(global_warp="rbf", strength=1.5)), variant_label(dict(image_warp="mesh"))
+    ('', ' [rbf, S=1.5]', '')
+    """
+    said = [options.get("global_warp", "similarity"), options.get("image_warp", "mesh")]
+    said = [word for word in said if word not in ("similarity", "mesh")]
+    if options.get("strength", 1.0) != 1.0:
+        said.append(f"S={options['strength']:g}")
+    return f" [{', '.join(said)}]" if said else ""
+
+
+def variants(global_warps=("similarity",), image_warps=("mesh",), strengths=(1.0,)) -> tuple[tuple[str, dict], ...]:
+    """Every combination of the options, each ``(label, clone options)`` (:func:`variant_label`), the paper's setting first if asked."""
+    combinations = itertools.product(global_warps, image_warps, strengths)
+    options = [{k: v for k, v in zip(("global_warp", "image_warp", "strength"), c)} for c in combinations]
+    return tuple(sorted(((variant_label(o), o) for o in options), key=lambda v: v[0] != ""))
+
+
+def _clone(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict, options: dict | None = None) -> dict:
+    """A's smile cloned onto B by ``methods`` (with the clone ``options``), with the landmarks already found."""
     sn, se, tn = data.path(pair[0], False), data.path(pair[0], True), data.path(pair[1], False)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         with naming({"source_neutral": sn, "source_expression": se, "target_neutral": tn}):
-            return clone_methods(_photo(sn), _photo(se), _photo(tn), methods, landmarks=(landmarks[sn], landmarks[se], landmarks[tn]))
+            images, found = (_photo(sn), _photo(se), _photo(tn)), (landmarks[sn], landmarks[se], landmarks[tn])
+            return clone_methods(*images, methods, landmarks=found, **(options or {}))
 
 
-def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict) -> list[dict]:
-    """Clone A's smile onto B by each method and score it; also the two references.
+def _candidates(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict, variant: tuple[str, dict]) -> dict:
+    """Each method's result in one variant, by its row's name: ``(image or None, failure, lambda_k, variant label)``."""
+    label, options = variant
+    try:
+        results = _clone(data, pair, methods, landmarks, options)
+        return {f"{m}{label}": (r.image, "", r.lambda_k, label) for m, r in results.items()}
+    except Exception as e:  # counted as a failure of every method, never dropped
+        return {f"{m}{label}": (None, f"{type(e).__name__}: {e}", None, label) for m in methods}
+
+
+def score_pair(
+    data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict, variants: tuple[tuple[str, dict], ...] = (PAPER,)
+) -> list[dict]:
+    """Clone A's smile onto B by each method in each variant (:func:`variants`) and score it; also the two references.
 
     Returns
     -------
     list of dict
-        One row of :data:`FIELDS` per method and reference.
+        One row of :data:`FIELDS` per method and variant, and per reference.
     """
     a, b = pair
     tn, ts, source_smile = data.path(b, False), data.path(b, True), data.path(a, True)
@@ -104,19 +153,17 @@ def score_pair(data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], l
     source_teeth = teeth(_photo(source_smile), landmarks[source_smile], DLIB68)
     target_descriptor = _descriptor()(_photo(tn), landmarks[tn])
     target_smile = smile_strength(landmarks[tn], truth)
-    candidates: dict[str, tuple[np.ndarray | None, str, float | None]] = {
-        "no change": (_photo(tn), "", None),
-        "real": (_photo(ts), "", None),
+    candidates: dict[str, tuple[np.ndarray | None, str, float | None, str]] = {
+        "no change": (_photo(tn), "", None, ""),
+        "real": (_photo(ts), "", None, ""),
     }
-    try:
-        results = _clone(data, pair, methods, landmarks)
-        candidates.update({m: (r.image, "", r.lambda_k) for m, r in results.items()})
-    except Exception as e:  # counted as a failure of every method, never dropped
-        candidates.update({m: (None, f"{type(e).__name__}: {e}", None) for m in methods})
+    for variant in variants:
+        candidates.update(_candidates(data, pair, methods, landmarks, variant))
     rows = []
-    for method, (image, failed, lam) in candidates.items():
+    for method, (image, failed, lam, label) in candidates.items():
         row = dict.fromkeys(FIELDS, "")
         row.update(source=a, target=b, method=method, target_smile=round(target_smile, 4), lambda_k="" if lam is None else lam)
+        row["variant"] = label
         row["source_teeth"] = round(source_teeth, 5)
         if image is not None:
             try:
@@ -137,9 +184,14 @@ def _score(args):
 
 
 def run(
-    data: Dataset, pairs: list[tuple[str, str]], methods: tuple[str, ...], jobs: int = 1, progress: Callable = Quiet
+    data: Dataset,
+    pairs: list[tuple[str, str]],
+    methods: tuple[str, ...],
+    jobs: int = 1,
+    progress: Callable = Quiet,
+    variants: tuple[tuple[str, dict], ...] = (PAPER,),
 ) -> tuple[list[dict], dict]:
-    """Score every pair (in ``jobs`` processes).
+    """Score every pair (in ``jobs`` processes), each method in each of ``variants`` (:func:`variants`).
 
     ``progress(total, what)`` makes a display of how many of ``total``
     things are done, with a method ``update(done, note)`` (as
@@ -160,7 +212,7 @@ def run(
         landmarks[path] = default_detector().detect(_photo(path), path)
         bar.update(k)
     rows = []
-    tasks = [(data, pair, methods, landmarks) for pair in pairs]
+    tasks = [(data, pair, methods, landmarks, variants) for pair in pairs]
     bar, start = progress(len(pairs), "pairs"), time.perf_counter()
     with multiprocessing.get_context("fork").Pool(jobs) if jobs > 1 else contextlib.nullcontext() as pool:
         for k, pair_rows in enumerate(pool.imap(_score, tasks) if pool else map(_score, tasks), 1):
@@ -173,9 +225,9 @@ def summarise(rows: list[dict], strong_only: bool = False, baseline: str = "glob
     """Mean and median of each score per method; failures counted; share keeping identity.
 
     ``mouth_vs_baseline`` is the mean of the per-pair difference of mouth error to the
-    ``baseline`` method over the pairs where both succeeded, with its standard error:
-    differences between methods are small beside the spread between pairs, and pairing
-    removes that spread.
+    ``baseline`` method (in the row's own variant) over the pairs where both succeeded,
+    with its standard error: differences between methods are small beside the spread
+    between pairs, and pairing removes that spread.
 
     Teeth, over the pairs that succeeded: ``teeth_sources`` pairs whose source's real
     smile shows teeth (:data:`TEETH_SHOWN`), of which the share ``teeth_kept`` of
@@ -184,7 +236,8 @@ def summarise(rows: list[dict], strong_only: bool = False, baseline: str = "glob
     """
     out = []
     methods = list(dict.fromkeys(r["method"] for r in rows))
-    base = {(r["source"], r["target"]): r["mouth"] for r in rows if r["method"] == baseline and not r["failed"]}
+    pair_of = lambda r: (r["source"], r["target"], r.get("variant", ""))  # noqa: E731
+    base = {pair_of(r): r["mouth"] for r in rows if r["method"] == baseline + r.get("variant", "") and not r["failed"]}
     for m in methods:
         mine = [r for r in rows if r["method"] == m and (not strong_only or float(r["target_smile"]) >= STRONG_SMILE)]
         ok = [r for r in mine if not r["failed"]]
@@ -195,7 +248,7 @@ def summarise(rows: list[dict], strong_only: bool = False, baseline: str = "glob
             line[f"{key}_median"] = float(np.median(values)) if len(values) else float("nan")
         ids = np.array([r["identity"] for r in ok], float)
         line["same_person"] = float((ids < SAME_PERSON).mean()) if len(ids) else float("nan")
-        diff = np.array([r["mouth"] - base[r["source"], r["target"]] for r in ok if (r["source"], r["target"]) in base], float)
+        diff = np.array([r["mouth"] - base[pair_of(r)] for r in ok if pair_of(r) in base], float)
         line["mouth_vs_baseline"] = float(diff.mean()) if len(diff) else float("nan")
         line["mouth_vs_baseline_se"] = float(diff.std(ddof=1) / np.sqrt(len(diff))) if len(diff) > 1 else float("nan")
         for shown_in_source, count, share in ((True, "teeth_sources", "teeth_kept"), (False, "closed_sources", "teeth_invented")):
@@ -235,12 +288,65 @@ def table(summary: list[dict]) -> str:
     return "\n".join(lines)
 
 
+def contrasts(rows: list[dict], strong_only: bool = False) -> list[dict]:
+    """Pairs of rows compared pair by pair: in each variant, the elastic model against the global warp it starts
+    from, and E+MD against the global warp with ERI (:data:`REFINED`); then each method in each variant against the
+    same method in the paper's setting.
+
+    Returns
+    -------
+    list of dict
+        ``compared`` (``"e+md [rbf] - e+md"``), ``pairs`` (where both succeeded), and for
+        ``mouth``, ``overall``, ``eyes_brows`` and ``identity`` the mean difference and its
+        standard error (``mouth_mean``, ``mouth_se``, ...): below 0, the first is closer
+        to the real smile (or, for identity, to the target's own face).
+    """
+    chosen = [r for r in rows if not r["failed"] and (not strong_only or float(r["target_smile"]) >= STRONG_SMILE)]
+    by_pair = {(r["source"], r["target"], r["method"]): r for r in chosen}
+    names = set(r["method"] for r in chosen)
+    labels = dict.fromkeys(r.get("variant", "") for r in chosen if r["method"] not in REFERENCES)
+    compared = [(f"{m}{v}", f"{base}{v}") for v in labels for m, base in REFINED if {f"{m}{v}", f"{base}{v}"} <= names]
+    variant_rows = dict.fromkeys((r["method"], r["variant"]) for r in chosen if r.get("variant"))
+    compared += [(name, name[: -len(label)]) for name, label in variant_rows if name[: -len(label)] in names]
+    return [_paired(by_pair, a, b) for a, b in compared]
+
+
+def _paired(by_pair: dict, a: str, b: str) -> dict:
+    """Row ``a`` minus row ``b`` over the pairs where both are (:func:`contrasts`)."""
+    both = [(r, by_pair[key[0], key[1], b]) for key, r in by_pair.items() if key[2] == a and (key[0], key[1], b) in by_pair]
+    line = {"compared": f"{a} - {b}", "pairs": len(both)}
+    for score in ("mouth", "overall", "eyes_brows", "identity"):
+        diff = np.array([float(r[score]) - float(p[score]) for r, p in both])
+        line[f"{score}_mean"] = float(diff.mean()) if len(diff) else float("nan")
+        line[f"{score}_se"] = float(diff.std(ddof=1) / np.sqrt(len(diff))) if len(diff) > 1 else float("nan")
+    return line
+
+
+def contrast_table(lines: list[dict]) -> str:
+    """A Markdown table of :func:`contrasts`' output."""
+    columns = ["compared, paired", "pairs", "mouth", "landmarks overall", "eyes+brows", "identity"]
+    out = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+    for c in lines:
+        cells = [f"{c[k + '_mean']:+.4f} ± {c[k + '_se']:.4f}" for k in ("mouth", "overall", "eyes_brows", "identity")]
+        out.append("| " + " | ".join([c["compared"], str(c["pairs"]), *cells]) + " |")
+    return "\n".join(out)
+
+
 def _share(share: float, of: int) -> str:
     return f"{100 * share:.0f}% of {of}" if of else "-"
 
 
-def write_report(out: Path, data: Dataset, rows: list[dict], landmarks: dict, methods: tuple[str, ...], command: str) -> str:
-    """``pairs.csv``, ``summary.md`` and the gallery (:func:`_gallery`) of e+md pairs."""
+def write_report(
+    out: Path,
+    data: Dataset,
+    rows: list[dict],
+    landmarks: dict,
+    methods: tuple[str, ...],
+    command: str,
+    variants: tuple[tuple[str, dict], ...] = (PAPER,),
+) -> str:
+    """``pairs.csv``, ``summary.md`` (with the variants against the paper's setting, :func:`contrasts`, if there are
+    any) and the gallery (:func:`_gallery`) of e+md pairs in the first variant."""
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "pairs.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, FIELDS)
@@ -270,7 +376,11 @@ def write_report(out: Path, data: Dataset, rows: list[dict], landmarks: dict, me
         table(summarise(rows, strong_only=True)),
         "",
     ]
-    gallery = _gallery(out, data, rows, landmarks, "e+md" if "e+md" in methods else methods[-1])
+    if contrasts(rows):
+        text += ["## Pair by pair: the elastic model on its GI in each variant, and each variant against the paper's", ""]
+        text += ["All pairs, then the strong smiles.", ""]
+        text += [contrast_table(contrasts(rows)), "", contrast_table(contrasts(rows, strong_only=True)), ""]
+    gallery = _gallery(out, data, rows, landmarks, "e+md" if "e+md" in methods else methods[-1], variants[0])
     if gallery:
         text += [
             "## Gallery",
@@ -286,15 +396,17 @@ def write_report(out: Path, data: Dataset, rows: list[dict], landmarks: dict, me
     return "\n".join(text)
 
 
-def _gallery(out: Path, data: Dataset, rows: list[dict], landmarks: dict, method: str) -> str | None:
-    """Best, median and worst pairs by mouth error, and the median one whose source shows teeth (if another).
+def _gallery(out: Path, data: Dataset, rows: list[dict], landmarks: dict, method: str, variant: tuple[str, dict] = PAPER) -> str | None:
+    """Best, median and worst pairs by mouth error, and the median one whose source shows teeth (if another), of
+    ``method`` in ``variant``.
 
     Each: [source smile | target neutral | result | target real smile], and under it the
     four mouths close up, each with its teeth measure (``shows`` from :data:`TEETH_SHOWN`).
     """
     import cv2
 
-    scored = sorted((r for r in rows if r["method"] == method and not r["failed"]), key=lambda r: r["mouth"])
+    label, options = variant
+    scored = sorted((r for r in rows if r["method"] == method + label and not r["failed"]), key=lambda r: r["mouth"])
     if not scored:
         return None
     picks = {"best": scored[0], "median": scored[len(scored) // 2], "worst": scored[-1]}
@@ -305,7 +417,7 @@ def _gallery(out: Path, data: Dataset, rows: list[dict], landmarks: dict, method
     strips = []
     for name, r in picks.items():
         a, b = r["source"], r["target"]
-        result = _clone(data, (a, b), (method,), landmarks)[method]
+        result = _clone(data, (a, b), (method,), landmarks, options)[method]
         cells = [
             (_photo(data.path(a, True)), landmarks[data.path(a, True)], r["source_teeth"]),
             (_photo(data.path(b, False)), landmarks[data.path(b, False)], row_of[a, b, "no change"]["teeth"]),

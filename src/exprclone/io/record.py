@@ -22,14 +22,21 @@ def result_record(result, inputs: dict[str, str]) -> dict:
     Returns
     -------
     dict
-        ``inputs``, ``method``, ``lambda_k``, ``db_curve`` (lambda_k and DB of each
-        candidate), ``muscle_strengths``, ``unfolded_points`` and ``landmarks`` (of each
-        stage, to 1/1000 pixel).
+        ``inputs``, ``method``, ``options`` (``global_warp``: similarity, rbf or given;
+        ``image_warp``, ``strength``, ``only``), ``lambda_k``, ``db_curve`` (lambda_k and
+        DB of each candidate), ``muscle_strengths``, ``unfolded_points`` and
+        ``landmarks`` (of each stage, to 1/1000 pixel).
     """
-    curve = result.db_curve
+    curve, options = result.db_curve, result.options
     return {
         "inputs": dict(inputs),
         "method": result.method,
+        "options": {
+            "global_warp": options.global_stage,
+            "image_warp": options.image_warp,
+            "strength": options.strength,
+            "only": None if options.only is None else list(options.only),
+        },
         "lambda_k": _number(result.lambda_k),
         "db_curve": None if curve is None else [{"lambda_k": _number(lam), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],
         "muscle_strengths": None if result.muscle_strengths is None else [float(h) for h in result.muscle_strengths],

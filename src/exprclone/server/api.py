@@ -9,15 +9,16 @@ from importlib import resources
 from pathlib import Path
 from typing import Annotated
 
-from fastapi import APIRouter, File, Form, Query, Request, UploadFile
+from fastapi import APIRouter, Depends, File, Form, Query, Request, UploadFile
 from fastapi.responses import FileResponse, JSONResponse, Response
 
 from .. import __version__
 from .. import data as samples
-from ..checks import check_lambda
+from ..checks import check_lambda, check_options
 from ..errors import ExprCloneError, naming
 from ..io.video import probe
-from ..methods import METHODS, lookup
+from ..methods import FIGURES, METHODS, lookup
+from ..options import GLOBAL_WARPS, IMAGE_WARPS, REGIONS, STRENGTH_RANGE
 from . import work
 
 router = APIRouter()
@@ -43,6 +44,30 @@ Landmarks = Annotated[UploadFile | None, File(description='its landmarks: .json 
 Method = Annotated[str, Form(description=f"one of {', '.join(METHODS)}")]
 Lambda = Annotated[str, Form(alias="lambda", description="the elasticity ratio k_A'/k_N: auto (the DB metric chooses) or a number >= 0")]
 Mouth = Annotated[bool, Form(description="paste the source's mouth interior (teeth) into an opened mouth")]
+GlobalLandmarks = Annotated[
+    UploadFile | None, File(description="the target's expression landmarks from any other method (.json or .tem), taken as GI (Fig. 21)")
+]
+
+
+async def transfer_form(
+    global_warp: Annotated[
+        str | None,
+        Form(description=f"how the source's motion reaches the target: {' or '.join(GLOBAL_WARPS)} (default: similarity; rbf for Fig. 19)"),
+    ] = None,
+    image_warp: Annotated[str, Form(description=f"how the photo follows its landmarks: {' or '.join(IMAGE_WARPS)}")] = IMAGE_WARPS[0],
+    strength: Annotated[
+        float, Form(ge=STRENGTH_RANGE[0], le=STRENGTH_RANGE[1], description="how much of the expression: 0 (none) to 2, 1 all of it")
+    ] = 1.0,
+    only: Annotated[str, Form(description=f"comma-separated regions ({', '.join(REGIONS)}) whose motion alone is transferred")] = "",
+) -> dict:
+    """The options of :class:`exprclone.options.Options` from the form, checked as the Python API checks them."""
+    asked = dict(global_warp=global_warp, image_warp=image_warp, strength=strength, only=only or None)
+    asked = {k: v for k, v in asked.items() if v is not None}
+    checked = check_options(asked, 1, (1, 1), REGIONS)
+    return {k: getattr(checked, k) for k in asked if getattr(checked, k) is not None}
+
+
+Transfer = Annotated[dict, Depends(transfer_form)]
 
 
 def parse_lambda(text: str) -> float | str:
@@ -69,14 +94,19 @@ async def read_upload(upload: UploadFile | None, field: str, extensions: tuple[s
     return work.Upload(field, content, extension)
 
 
-async def clone_request(request: Request, method: str, lambda_text: str, mouth: bool, uploads: dict) -> work.CloneRequest:
-    """The checked request: the method known, lambda valid, three photos and any landmark files read."""
+async def clone_request(
+    request: Request, method: str, lambda_text: str, mouth: bool, uploads: dict, transfer: dict, figure: str = FIGURES[0]
+) -> work.CloneRequest:
+    """The checked request: the method known, lambda valid, the options checked, three photos and any landmark files read."""
     lookup((method,))
     lambda_k = parse_lambda(lambda_text)
+    if figure not in FIGURES:
+        raise ExprCloneError("figure", f"must be {' or '.join(FIGURES)}, got {figure!r}")
     photos = tuple([await read_upload(uploads[field], field) for field in PHOTOS])
     marks = tuple([await read_upload(uploads[field], field, LANDMARK_EXTENSIONS, required=False) for field in LANDMARK_FIELDS])
+    given = await read_upload(uploads["global_landmarks"], "global_landmarks", LANDMARK_EXTENSIONS, required=False)
     max_pixels = request.app.state.work.settings.max_pixels
-    return work.CloneRequest(photos, marks, method, lambda_k, mouth, max_pixels)
+    return work.CloneRequest(photos, marks, method, lambda_k, mouth, max_pixels, transfer, given, figure)
 
 
 @router.get("/", include_in_schema=False)
@@ -121,15 +151,20 @@ async def clone(
     source_neutral_landmarks: Landmarks = None,
     source_expression_landmarks: Landmarks = None,
     target_neutral_landmarks: Landmarks = None,
+    global_landmarks: GlobalLandmarks = None,
     method: Method = "e+md",
     lambda_text: Lambda = "auto",
     mouth: Mouth = True,
+    transfer: Transfer = None,
     format: Annotated[str, Query(pattern="^(png|json)$", description="png (default), or json: the record with the PNG as base64")] = "png",
 ):
-    """The source's expression on the target: PNG, or with ``?format=json`` the JSON record of ``--save-json`` plus ``png`` (base64)."""
-    uploads = dict(zip(PHOTOS, (source_neutral, source_expression, target_neutral)))
+    """The source's expression on the target: PNG, or with ``?format=json`` the JSON record of ``--save-json`` plus ``png`` (base64).
+
+    ``global_warp``, ``image_warp``, ``strength``, ``only`` and ``global_landmarks`` are the options of ``exprclone clone``."""
+    uploads = dict(zip(PHOTOS, (source_neutral, source_expression, target_neutral)), global_landmarks=global_landmarks)
     uploads.update(zip(LANDMARK_FIELDS, (source_neutral_landmarks, source_expression_landmarks, target_neutral_landmarks)))
-    png, record = await request.app.state.work.run(work.clone, await clone_request(request, method, lambda_text, mouth, uploads))
+    asked = await clone_request(request, method, lambda_text, mouth, uploads, transfer)
+    png, record = await request.app.state.work.run(work.clone, asked)
     if format == "json":
         return JSONResponse({**record, "png": base64.b64encode(png).decode()})
     return Response(png, media_type="image/png")
@@ -144,13 +179,20 @@ async def compare(
     source_neutral_landmarks: Landmarks = None,
     source_expression_landmarks: Landmarks = None,
     target_neutral_landmarks: Landmarks = None,
+    global_landmarks: GlobalLandmarks = None,
     lambda_text: Lambda = "auto",
     mouth: Mouth = True,
+    transfer: Transfer = None,
+    figure: Annotated[
+        str, Form(description="11: Figs. 11-13 and the DB curve; 19: the elastic model on the RBF result (Figs. 19-21)")
+    ] = FIGURES[0],
 ):
-    """Every method of Fig. 11, the difference images of Figs. 12-13 and the DB curve, as one PNG sheet."""
-    uploads = dict(zip(PHOTOS, (source_neutral, source_expression, target_neutral)))
+    """Every method of Fig. 11, the difference images of Figs. 12-13 and the DB curve, as one PNG sheet; or Figs. 19-21
+    (``figure=19``: the elastic model on the RBF transfer's result, or on ``global_landmarks``)."""
+    uploads = dict(zip(PHOTOS, (source_neutral, source_expression, target_neutral)), global_landmarks=global_landmarks)
     uploads.update(zip(LANDMARK_FIELDS, (source_neutral_landmarks, source_expression_landmarks, target_neutral_landmarks)))
-    sheet = await request.app.state.work.run(work.compare, await clone_request(request, "e+md", lambda_text, mouth, uploads))
+    asked = await clone_request(request, "e+md", lambda_text, mouth, uploads, transfer, figure)
+    sheet = await request.app.state.work.run(work.compare, asked)
     return Response(sheet, media_type="image/png")
 
 
@@ -177,10 +219,13 @@ async def video(
     ] = "closed",
     side_by_side: Annotated[bool, Form(description="the driving video beside the result")] = False,
     head_motion: Annotated[bool, Form(description="carry the source's head motion over")] = False,
+    transfer: Transfer = None,
 ) -> dict:
-    """Start a video job: ``202 {"id", "status", "result"}``; follow it at ``/api/jobs/{id}``."""
+    """Start a video job: ``202 {"id", "status", "result"}``; follow it at ``/api/jobs/{id}``.
+
+    ``global_warp``, ``image_warp``, ``strength`` and ``only`` are the options of ``exprclone video``."""
     options = dict(method=lookup((method,))[0].name, lambda_k=parse_lambda(lambda_text), neutral_frame=neutral_frame(neutral))
-    options.update(mouth=mouth, head_motion=head_motion)
+    options.update(mouth=mouth, head_motion=head_motion, **transfer)
     photo = await read_upload(portrait, "portrait")
     state = request.app.state.work
     await state.run(work.landmarks, photo, state.settings.max_pixels)  # a portrait without a face fails now, not in the job

@@ -39,7 +39,11 @@ class Upload:
 
 @dataclass(frozen=True)
 class CloneRequest:
-    """What ``POST /api/clone`` and ``/api/compare`` ask: three photos, optional landmark files, the options."""
+    """What ``POST /api/clone`` and ``/api/compare`` ask: three photos, optional landmark files, the options.
+
+    ``transfer`` holds the options of :class:`exprclone.options.Options` but the given
+    landmarks, which come as a file (``global_landmarks``); ``figure`` is the compare sheet's.
+    """
 
     photos: tuple[Upload, Upload, Upload]
     landmarks: tuple[Upload | None, Upload | None, Upload | None]
@@ -47,6 +51,9 @@ class CloneRequest:
     lambda_k: float | str = "auto"
     mouth: bool = True
     max_pixels: int | None = None
+    transfer: dict = field(default_factory=dict)
+    global_landmarks: Upload | None = None
+    figure: str = "11"
 
 
 @dataclass(frozen=True)
@@ -54,7 +61,8 @@ class VideoRequest:
     """What ``POST /api/video`` asks: a portrait, a driving video (saved in the job's folder), where to write, the options.
 
     ``options`` go to :func:`exprclone.drive.prepare` (``method``, ``lambda_k``,
-    ``neutral_frame``, ``mouth``, ``head_motion``, ``smooth``).
+    ``neutral_frame``, ``mouth``, ``head_motion``, ``smooth``, and those of
+    :class:`exprclone.options.Options`).
     """
 
     portrait: Upload
@@ -107,19 +115,24 @@ def landmarks(upload: Upload, max_pixels: int | None = None) -> dict:
     return {"width": image.shape[1], "height": image.shape[0], "landmarks": np.round(_detected(upload, image), 2).tolist()}
 
 
-def _inputs(request: CloneRequest) -> tuple[list[np.ndarray], tuple[np.ndarray, ...]]:
-    """The three photos decoded, and their landmarks: from the landmark file given, else detected."""
+def _landmark_file(upload: Upload, shape: tuple[int, ...]) -> np.ndarray:
+    """The landmarks of an uploaded landmark file, for a photo of ``shape``."""
     from ..io.landmarks import parse_landmarks
 
+    return parse_landmarks(upload.content.decode("utf-8-sig", errors="replace"), upload.extension, shape, name=upload.field)
+
+
+def _inputs(request: CloneRequest) -> tuple[list[np.ndarray], tuple[np.ndarray, ...], dict]:
+    """The three photos decoded, their landmarks (from the landmark file given, else detected), and the clone's
+    options (with the given GI read from its file)."""
     images = [_image(p, request.max_pixels) for p in request.photos]
     points = []
     for photo, image, given in zip(request.photos, images, request.landmarks):
-        if given is None:
-            points.append(_detected(photo, image))
-        else:
-            text = given.content.decode("utf-8-sig", errors="replace")
-            points.append(parse_landmarks(text, given.extension, image.shape, name=given.field))
-    return images, tuple(points)
+        points.append(_detected(photo, image) if given is None else _landmark_file(given, image.shape))
+    options = dict(request.transfer, lambda_k=request.lambda_k, landmarks=tuple(points), mouth=request.mouth)
+    if request.global_landmarks is not None:
+        options["global_landmarks"] = _landmark_file(request.global_landmarks, images[2].shape)
+    return images, tuple(points), options
 
 
 def clone(request: CloneRequest) -> tuple[bytes, dict]:
@@ -128,20 +141,20 @@ def clone(request: CloneRequest) -> tuple[bytes, dict]:
     from ..io.record import result_record
     from ..pipeline import clone as clone_photos
 
-    images, points = _inputs(request)
-    result = clone_photos(*images, method=request.method, lambda_k=request.lambda_k, landmarks=points, mouth=request.mouth)
+    images, _, options = _inputs(request)
+    result = clone_photos(*images, method=request.method, **options)
     return encode_image(result.image, ".png"), result_record(result, {p.field: p.field for p in request.photos})
 
 
 def compare(request: CloneRequest) -> bytes:
-    """``POST /api/compare``: the sheet of Figs. 11-13 (:func:`exprclone.evaluation.figures.sheet`) as PNG."""
-    from ..evaluation.figures import sheet
+    """``POST /api/compare``: the sheet of Figs. 11-13, or of Figs. 19-21, as PNG (as ``exprclone compare --figure`` draws them)."""
+    from ..evaluation.figures import draw, figure_request
     from ..io.images import encode_image
     from ..pipeline import clone_methods
 
-    images, points = _inputs(request)
-    results = clone_methods(*images, lambda_k=request.lambda_k, landmarks=points, mouth=request.mouth)
-    return encode_image(sheet(results, images[1]), ".png")
+    images, _, options = _inputs(request)
+    methods, options = figure_request(request.figure, options)
+    return encode_image(draw(request.figure, clone_methods(*images, methods, **options), images), ".png")
 
 
 def video(request: VideoRequest) -> dict:

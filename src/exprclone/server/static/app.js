@@ -127,6 +127,19 @@ function showLambda() {
 }
 $("#lambda-auto").addEventListener("change", showLambda);
 $("#lambda").addEventListener("input", showLambda);
+$("#strength").addEventListener("input", () => { $("#strength-value").textContent = $("#strength").value; });
+
+// the options of exprclone.options.Options, as form fields; every region checked is the whole face
+function addTransfer(form, withGiven) {
+  if ($("#global-warp").value) form.append("global_warp", $("#global-warp").value);
+  form.append("image_warp", $("#image-warp").value);
+  form.append("strength", $("#strength").value);
+  const regions = [...document.querySelectorAll(".region")];
+  const checked = regions.filter((box) => box.checked).map((box) => box.value);
+  if (!checked.length) throw new Error("only: check at least one region");
+  if (checked.length < regions.length) form.append("only", checked.join(","));
+  if (withGiven && fileOf("global_landmarks")) form.append("global_landmarks", fileOf("global_landmarks"));
+}
 
 function cloneForm(withMethod) {
   const form = new FormData();
@@ -138,6 +151,7 @@ function cloneForm(withMethod) {
   if (withMethod) form.append("method", $("#method").value);
   form.append("lambda", lambdaValue());
   form.append("mouth", $("#mouth").checked ? "true" : "false");
+  addTransfer(form, true);
   return form;
 }
 
@@ -157,7 +171,10 @@ $("#clone").addEventListener("click", async () => {
     $("#toggle").setAttribute("aria-pressed", "false");
     $("#toggle").textContent = "Show before";
     const lambda = record.lambda_k === null ? "" : `, λk = ${record.lambda_k}`;
-    $("#result-caption").textContent = `${record.method}${lambda}. `;
+    const o = record.options;
+    const how = [o.global_warp !== "similarity" ? `global warp ${o.global_warp}` : "", o.image_warp !== "mesh" ? o.image_warp : "",
+      o.strength !== 1 ? `strength ${o.strength}` : "", o.only ? `only ${o.only.join(", ")}` : ""].filter(Boolean);
+    $("#result-caption").textContent = `${record.method}${lambda}${how.map((h) => `, ${h}`).join("")}. `;
     $("#download-png").href = png;
     $("#download-json").href = URL.createObjectURL(new Blob([JSON.stringify(record, null, 1)], { type: "application/json" }));
     $("#result-box").hidden = false;
@@ -179,7 +196,12 @@ $("#compare").addEventListener("click", async () => {
   say("");
   busy(true);
   try {
-    const url = URL.createObjectURL(await (await call("/api/compare", { method: "POST", body: cloneForm(false) })).blob());
+    const form = cloneForm(false);
+    form.append("figure", $("#figure").value);
+    const url = URL.createObjectURL(await (await call("/api/compare", { method: "POST", body: form })).blob());
+    $("#sheet-caption").textContent = $("#figure").value === "19"
+      ? "Figs. 19-21 of the paper on these photos: the elastic model on the result of another global warp, and the DB metric over λk."
+      : "Figs. 11-13 of the paper on these photos, and the DB metric over λk.";
     $("#sheet").src = url;
     $("#download-sheet").href = url;
     $("#sheet-box").hidden = false;
@@ -210,6 +232,7 @@ $("#video-start").addEventListener("click", async () => {
     form.append("neutral_frame", $("#video-neutral").value);
     form.append("side_by_side", $("#video-side-by-side").checked ? "true" : "false");
     form.append("head_motion", $("#video-head-motion").checked ? "true" : "false");
+    addTransfer(form, false);
     const job = await (await call("/api/video", { method: "POST", body: form })).json();
     progress.hidden = false;
     progress.value = 0;
