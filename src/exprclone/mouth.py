@@ -158,8 +158,7 @@ class Reference:
     source_light : illuminant.Light or None
         The same cues on the source's neutral photo, when it is given.
     source_face : ndarray of shape (3,) or None
-        That photo's face colour (:func:`exprclone.illuminant.midmean` of
-        :func:`face_box`), to carry its light over to an expression photo taken at
+        That photo's face colour (:func:`face_colour`), to carry its light over to an expression photo taken at
         another exposure.
     """
 
@@ -184,7 +183,7 @@ class Reference:
             neutral, neutral_landmarks = source_neutral
             source = dict(
                 source_light=illuminant.Light.measure(neutral, neutral_landmarks, layout),
-                source_face=illuminant.midmean(face_box(neutral, neutral_landmarks).reshape(-1, 3)),
+                source_face=face_colour(neutral, neutral_landmarks),
             )
         return cls(illuminant.Light.measure(target, target_landmarks, layout), blur_sigma(face), noise_sigma(face), **source)
 
@@ -206,7 +205,7 @@ def tone_gain(
     neutral photo at the median, 19% at the 5th percentile, 55% for one person), so when
     the reference holds the source's neutral photo its light is read there and carried
     over to the expression photo by the change of exposure: the ratio of the two
-    photos' face colours (:func:`exprclone.illuminant.midmean` of :func:`face_box`;
+    photos' face colours (:func:`face_colour`;
     one person's face, so what differs between them is the exposure), as a brightness
     (the mean of the channels' log ratios). The colour of the light is read once, on
     the neutral face: in a video, the paste's colour is the same in every frame.
@@ -228,7 +227,7 @@ def tone_gain(
     if reference.source_light is None:
         light = illuminant.Light.measure(source, source_landmarks, layout)
     else:
-        face = illuminant.midmean(face_box(source, source_landmarks).reshape(-1, 3))
+        face = face_colour(source, source_landmarks)
         exposure = np.log(np.maximum(face, 1.0) / np.maximum(reference.source_face, 1.0)).mean()
         light = reference.source_light.scaled(np.exp(exposure))
     gain = np.clip(illuminant.gain(reference.light, light), *GAIN_RANGE)
@@ -246,6 +245,11 @@ def below_white(gain: np.ndarray, pasted: np.ndarray) -> np.ndarray:
     if not len(pasted):
         return gain
     return gain * min(1.0, 255.0 / max(float((gain * np.percentile(pasted, 99, axis=0)).max()), 1.0))
+
+
+def face_colour(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
+    """The face's colour: the :func:`~exprclone.illuminant.midmean` of the pixels of the landmarks' bounding box (brows to chin)."""
+    return illuminant.midmean(image[geometry.box(landmarks, image.shape)].reshape(-1, 3))
 
 
 def face_box(image: np.ndarray, landmarks: np.ndarray, scale: float = 1.0) -> np.ndarray:
