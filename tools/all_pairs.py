@@ -81,14 +81,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
     parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--limit", type=int, default=0, help="only the first N pairs (0: all)")
+    parser.add_argument("--limit", type=int, default=0, help="only N pairs drawn at random, seed 0 (0: all)")
     parser.add_argument("--paper-only", action="store_true", help="only the paper's setting (similarity, mesh, strength 1)")
     args = parser.parse_args()
     data = Dataset.open(Path(args.data) / "london")
     landmarks = {p: default_detector().detect(photo(p), p) for i in data.ids for p in (data.path(i, False), data.path(i, True))}
-    pairs = data.pairs(0, seed=0)
-    if args.limit:
-        pairs = pairs[: args.limit]
+    pairs = data.pairs(args.limit, seed=0)
     start = time.time()
     failures, unfolded, lambdas, runs = (
         collections.Counter(),
