@@ -142,9 +142,7 @@ async def landmarks(request: Request, photo: Photo) -> dict:
     return await request.app.state.work.run(work.landmarks, upload, request.app.state.work.settings.max_pixels)
 
 
-@router.post("/api/clone", responses={200: {"content": {"image/png": {}}, "description": "the result, at the target photo's size"}})
-async def clone(
-    request: Request,
+async def clone_uploads(
     source_neutral: Photo,
     source_expression: Photo,
     target_neutral: Photo,
@@ -152,6 +150,20 @@ async def clone(
     source_expression_landmarks: Landmarks = None,
     target_neutral_landmarks: Landmarks = None,
     global_landmarks: GlobalLandmarks = None,
+) -> dict:
+    """The files of ``/api/clone`` and ``/api/compare`` by field name: three photos, their optional landmark files, the given GI."""
+    uploads = dict(zip(PHOTOS, (source_neutral, source_expression, target_neutral)), global_landmarks=global_landmarks)
+    uploads.update(zip(LANDMARK_FIELDS, (source_neutral_landmarks, source_expression_landmarks, target_neutral_landmarks)))
+    return uploads
+
+
+Uploads = Annotated[dict, Depends(clone_uploads)]
+
+
+@router.post("/api/clone", responses={200: {"content": {"image/png": {}}, "description": "the result, at the target photo's size"}})
+async def clone(
+    request: Request,
+    uploads: Uploads,
     method: Method = "e+md",
     lambda_text: Lambda = "auto",
     mouth: Mouth = True,
@@ -161,8 +173,6 @@ async def clone(
     """The source's expression on the target: PNG, or with ``?format=json`` the JSON record of ``--save-json`` plus ``png`` (base64).
 
     ``global_warp``, ``image_warp``, ``strength``, ``only`` and ``global_landmarks`` are the options of ``exprclone clone``."""
-    uploads = dict(zip(PHOTOS, (source_neutral, source_expression, target_neutral)), global_landmarks=global_landmarks)
-    uploads.update(zip(LANDMARK_FIELDS, (source_neutral_landmarks, source_expression_landmarks, target_neutral_landmarks)))
     asked = await clone_request(request, method, lambda_text, mouth, uploads, transfer)
     png, record = await request.app.state.work.run(work.clone, asked)
     if format == "json":
@@ -173,13 +183,7 @@ async def clone(
 @router.post("/api/compare", responses={200: {"content": {"image/png": {}}, "description": "the sheet of Figs. 11-13"}})
 async def compare(
     request: Request,
-    source_neutral: Photo,
-    source_expression: Photo,
-    target_neutral: Photo,
-    source_neutral_landmarks: Landmarks = None,
-    source_expression_landmarks: Landmarks = None,
-    target_neutral_landmarks: Landmarks = None,
-    global_landmarks: GlobalLandmarks = None,
+    uploads: Uploads,
     lambda_text: Lambda = "auto",
     mouth: Mouth = True,
     transfer: Transfer = None,
@@ -189,8 +193,6 @@ async def compare(
 ):
     """Every method of Fig. 11, the difference images of Figs. 12-13 and the DB curve, as one PNG sheet; or Figs. 19-21
     (``figure=19``: the elastic model on the RBF transfer's result, or on ``global_landmarks``)."""
-    uploads = dict(zip(PHOTOS, (source_neutral, source_expression, target_neutral)), global_landmarks=global_landmarks)
-    uploads.update(zip(LANDMARK_FIELDS, (source_neutral_landmarks, source_expression_landmarks, target_neutral_landmarks)))
     asked = await clone_request(request, "e+md", lambda_text, mouth, uploads, transfer, figure)
     sheet = await request.app.state.work.run(work.compare, asked)
     return Response(sheet, media_type="image/png")
