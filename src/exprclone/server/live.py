@@ -1,12 +1,14 @@
 """Live: a portrait that follows a webcam, frame by frame, over a WebSocket (``/api/live``, the page ``/live``).
 
 The protocol. The page sends a text message ``{"type": "start", "method", "mouth",
-"size", "lambda"}``, then the portrait as one binary message; the server answers
+"size", "lambda"}`` (and any of ``strength``, ``only``, ``global_warp``, ``image_warp``:
+the options of :class:`exprclone.options.Options`), then the portrait as one binary message; the server answers
 ``{"type": "ready", "width", "height"}`` or ``{"type": "error", "error"}``. Then each
 camera frame goes as a binary message: a 4-byte big-endian sequence number and a JPEG
 (at most the output size); the answer is the same number and the output frame as JPEG.
 ``{"type": "neutral"}`` re-captures the neutral face from the next frame;
-``{"type": "options", "method", "mouth"}`` changes the method. ``{"type": "status",
+``{"type": "options", "method", "mouth"}`` changes the method (and with ``strength`` or
+``only``, what is transferred: the same neutral face, prepared again). ``{"type": "status",
 "face", "neutral", "lambda_k"}`` says when the face is lost or found, and when the
 neutral face is captured.
 
@@ -29,7 +31,7 @@ import numpy as np
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 
 from .. import drive, tracking
-from ..checks import check_lambda
+from ..checks import check_lambda, check_options
 from ..errors import ExprCloneError
 from ..layout import DLIB68
 from ..methods import lookup
@@ -48,6 +50,8 @@ JPEG_QUALITY = 85
 SIZES = (256, 512)
 #: the sequence number before each frame.
 SEQUENCE = struct.Struct(">I")
+#: the options of :class:`exprclone.options.Options` a start or options message may carry (GI from a file aside).
+TRANSFER = ("global_warp", "image_warp", "strength", "only")
 
 
 def decode_jpeg(content: bytes) -> np.ndarray:
@@ -72,14 +76,19 @@ class Session:
         As for :class:`exprclone.drive.Driver`; ``lambda_k="auto"`` is chosen once (:data:`LAMBDA_STRENGTH`).
     size : int
         The output's longest side.
+    transfer : dict, optional
+        Options of :class:`exprclone.options.Options` (:data:`TRANSFER`) for the prepared faces.
     """
 
-    def __init__(self, portrait: np.ndarray, method: str, mouth: bool, lambda_k: float | str, size: int) -> None:
+    def __init__(
+        self, portrait: np.ndarray, method: str, mouth: bool, lambda_k: float | str, size: int, transfer: dict | None = None
+    ) -> None:
         from ..pipeline import default_detector
 
         self.method, self.mouth, self.lambda_k = lookup((method,))[0].name, mouth, check_lambda(lambda_k)
         self.detector = default_detector()
         self.portrait, _ = drive.resize_portrait(portrait, None, size)
+        self.transfer = self._checked(transfer or {})
         self.portrait_points = self.detector.detect(self.portrait, "portrait")
         self.tracker, self.filter = tracking.Tracker(self.detector), tracking.OneEuro()
         self.last = self.portrait
@@ -92,11 +101,26 @@ class Session:
         self.window: tuple[float, float, np.ndarray, np.ndarray] | None = None  # (start, opening, frame, points) of the best so far
         self.now = now
 
-    def options(self, method: str, mouth: bool) -> None:
-        """Another method or mouth setting, for the same faces."""
+    def _checked(self, transfer: dict) -> dict:
+        """The transfer options, checked on the portrait as a :class:`~exprclone.pipeline.Cloner` would (ExprCloneError)."""
+        check_options(transfer, DLIB68.n_points, self.portrait.shape, tuple(DLIB68.regions))
+        return transfer
+
+    def options(self, method: str, mouth: bool, transfer: dict | None = None) -> None:
+        """Another method or mouth setting, for the same faces; other transfer options prepare the same faces again."""
         self.method, self.mouth = lookup((method,))[0].name, mouth
+        changed = transfer is not None and transfer != self.transfer
+        if changed:
+            self.transfer = self._checked(transfer)
         if self.driver is not None:
-            self.driver = drive.Driver(self.driver.cloner, self.method, self._lambda_for_driver(), mouth=self.mouth)
+            cloner = self._cloner() if changed else self.driver.cloner
+            self.driver = drive.Driver(cloner, self.method, self._lambda_for_driver(), mouth=self.mouth)
+
+    def _cloner(self):
+        """The camera's neutral face (the window's frame) and the portrait, prepared with the transfer options."""
+        from ..pipeline import Cloner
+
+        return Cloner(self.window[2], self.window[3], self.portrait, self.portrait_points, **self.transfer)
 
     def _lambda_for_driver(self) -> float:
         return 0.0 if self.chosen == "auto" else float(self.chosen)
@@ -121,14 +145,11 @@ class Session:
 
     def _capture(self, frame: np.ndarray, points: np.ndarray, t: float) -> None:
         """Keep the frame with the most closed mouth; at the end of the window (or at once, if asked) it is the neutral face."""
-        from ..pipeline import Cloner
-
         closed = opening(points, DLIB68)
         if self.window is None or closed < self.window[1]:
             self.window = (self.window[0] if self.window else t, closed, frame, points)
         if self.now or t - self.window[0] >= NEUTRAL_SECONDS:
-            cloner = Cloner(self.window[2], self.window[3], self.portrait, self.portrait_points)
-            self.driver = drive.Driver(cloner, self.method, self._lambda_for_driver(), mouth=self.mouth)
+            self.driver = drive.Driver(self._cloner(), self.method, self._lambda_for_driver(), mouth=self.mouth)
 
     def _choose_lambda(self, frame: np.ndarray, points: np.ndarray) -> None:
         """lambda_k "auto": chosen once by the DB metric, on the first clearly expressive frame."""
@@ -154,7 +175,17 @@ async def _start(websocket: WebSocket, executor: ThreadPoolExecutor) -> Session:
     max_pixels = websocket.app.state.work.settings.max_pixels
     options = (start.get("method", "e+md"), bool(start.get("mouth", True)), parse_lambda(str(start.get("lambda", "auto"))), size)
     loop = asyncio.get_running_loop()
-    return await loop.run_in_executor(executor, lambda: Session(load_image(portrait, name="portrait", max_pixels=max_pixels), *options))
+    return await loop.run_in_executor(
+        executor, lambda: Session(load_image(portrait, name="portrait", max_pixels=max_pixels), *options, transfer_of(start))
+    )
+
+
+def transfer_of(message: dict) -> dict:
+    """The transfer options a message gives (:data:`TRANSFER`; a list of regions as a tuple)."""
+    given = {key: message[key] for key in TRANSFER if message.get(key) is not None}
+    if isinstance(given.get("only"), list):
+        given["only"] = tuple(given["only"])
+    return given
 
 
 @router.websocket("/api/live")
@@ -248,4 +279,7 @@ async def _control(session: Session, executor: ThreadPoolExecutor, text: str) ->
     if message.get("type") == "neutral":
         await loop.run_in_executor(executor, lambda: session.recapture(now=True))
     elif message.get("type") == "options":
-        await loop.run_in_executor(executor, session.options, message.get("method", session.method), bool(message.get("mouth", True)))
+        transfer = transfer_of(message) if any(key in message for key in TRANSFER) else None
+        await loop.run_in_executor(
+            executor, session.options, message.get("method", session.method), bool(message.get("mouth", True)), transfer
+        )

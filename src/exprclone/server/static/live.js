@@ -127,7 +127,7 @@ async function start() {
   socket = new WebSocket(`${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/api/live`);
   socket.binaryType = "arraybuffer";
   socket.onopen = async () => {
-    socket.send(JSON.stringify({ type: "start", method: $("#method").value, mouth: $("#mouth").checked, size: Number($("#size").value) }));
+    socket.send(JSON.stringify({ type: "start", ...choices(), size: Number($("#size").value) }));
     socket.send(await file.arrayBuffer());
   };
   socket.onmessage = (event) => (typeof event.data === "string" ? onText(JSON.parse(event.data)) : show(event.data));
@@ -158,8 +158,16 @@ function stop(message) {
 $("#start").addEventListener("click", start);
 $("#stop").addEventListener("click", () => stop());
 $("#neutral").addEventListener("click", () => socket && socket.send(JSON.stringify({ type: "neutral" })));
-for (const id of ["#method", "#mouth"]) {
-  $(id).addEventListener("change", () => socket && socket.send(JSON.stringify({ type: "options", method: $("#method").value, mouth: $("#mouth").checked })));
+// the method, the teeth switch, strength and regions (every region checked is the whole face)
+function choices() {
+  const checked = [...document.querySelectorAll(".region")].filter((box) => box.checked).map((box) => box.value);
+  const only = checked.length === document.querySelectorAll(".region").length ? null : checked;
+  return { method: $("#method").value, mouth: $("#mouth").checked, strength: Number($("#strength").value), only };
+}
+
+$("#strength").addEventListener("input", () => { $("#strength-value").textContent = $("#strength").value; });
+for (const control of [$("#method"), $("#mouth"), $("#strength"), ...document.querySelectorAll(".region")]) {
+  control.addEventListener("change", () => socket && socket.send(JSON.stringify({ type: "options", ...choices() })));
 }
 
 $("#record").addEventListener("click", () => {
