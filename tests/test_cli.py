@@ -164,11 +164,13 @@ def test_the_core_loads_no_outer_layer():
 
 def test_clone_with_the_transfer_options(london, tmp_path):
     out, record = tmp_path / "out.png", tmp_path / "out.json"
-    p = run("clone", SN, SE, TN, "-o", out, "--global-warp", "rbf", "--image-warp", "tps", "--strength", "0", "--save-json", record)
+    args = ("--global-warp", "rbf", "--image-warp", "tps", "--strength", "0", "--no-retarget", "--save-json", record)
+    p = run("clone", SN, SE, TN, "-o", out, *args)
     assert p.returncode == 0, p.stderr
-    assert "global warp rbf, image warp tps, strength 0" in p.stdout
+    assert "global warp rbf, image warp tps, strength 0, no retarget" in p.stdout
     assert np.abs(np.asarray(Image.open(out)).astype(int) - np.asarray(Image.open(TN))).max() <= 1  # strength 0: the target
-    assert json.loads(record.read_text())["options"] == {"global_warp": "rbf", "image_warp": "tps", "strength": 0.0, "only": None}
+    recorded = json.loads(record.read_text())["options"]
+    assert recorded == {"global_warp": "rbf", "image_warp": "tps", "strength": 0.0, "only": None, "retarget": False}
 
 
 def test_global_landmarks_equal_to_the_default_gi_give_the_default_image(pair, tmp_path):

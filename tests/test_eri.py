@@ -1,6 +1,7 @@
 import cv2
 import numpy as np
 import pytest
+from changes import lit_from_the_side, lock_of_hair
 
 from exprclone import eri, geometry, warp
 from exprclone.layout import DLIB68
@@ -114,14 +115,98 @@ def test_shrink_then_enlarge_keeps_a_smooth_image(shape):
     assert np.abs(back - smooth).max() < 0.3  # the edge, repeated
 
 
-def test_luma_warped_instead_of_rgb_gives_nearly_the_same_ratio(pair):
-    (sn, se, target), (sn_lm, se_lm, lm) = pair
+def face_frame(pair):
+    """The target photo of ``pair`` (003), its landmarks, its ratio mask and inter-ocular distance."""
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    return target, lm, eri.ratio_mask(target.shape[:2], lm, mesh.points[mesh.forehead], DLIB68), geometry.interocular(lm, DLIB68)
+
+
+def test_a_light_that_moved_across_the_face_is_not_expression(pair):
+    target, lm, mask, iod = face_frame(pair)
+    lit = lit_from_the_side(target, lm)  # 30% brighter from ear to ear
+    ratio = eri.expression_ratio(target, lit, mask, iod)
+    assert np.abs(ratio - 1).max() < 0.01
+    # a median ratio of 1 would have left the tilt: +-15% across the face
+    trusted = mask > 0.5
+    raw = (eri.luminance(lit) + eri.EPS) / (eri.luminance(target) + eri.EPS)
+    assert np.percentile(raw[trusted] / np.median(raw[trusted]), [2, 98]) @ [-1, 1] > 0.15
+
+
+def test_hair_over_the_skin_is_not_expression_and_shading_is(pair):
+    target, lm, mask, iod = face_frame(pair)
+    left, right = (lm[2] + lm[31]) / 2, (lm[14] + lm[35]) / 2  # the cheeks
+    hair = (70, 50, 38)  # dark brown
+    neutral = lock_of_hair(target, left, 0.12 * iod, hair)  # a lock of hair on one cheek...
+    expression = lock_of_hair(target, right, 0.12 * iod, hair)  # ...that moved to the other
+    x, y = lm[8] + (0, -0.25 * iod)  # and the chin darkened by a fold, as shading does
+    fold = (slice(int(y - 0.1 * iod), int(y + 0.1 * iod)), slice(int(x - 0.1 * iod), int(x + 0.1 * iod)))
+    expression[fold] = (expression[fold] * 0.8 + 0.5).astype(np.uint8)
+    ratio = eri.expression_ratio(neutral, expression, mask, iod, target)
+    for centre in (left, right):
+        near = np.hypot(*(np.mgrid[: target.shape[0], : target.shape[1]][::-1] - centre[:, None, None])) < 0.2 * iod
+        assert np.abs(ratio[near] - 1).max() < 0.01, centre
+    core = (slice(fold[0].start + 15, fold[0].stop - 15), slice(fold[1].start + 15, fold[1].stop - 15))
+    assert np.median(ratio[core]) == pytest.approx(0.8, abs=0.03)
+
+
+def test_moved_is_where_the_expression_moves_the_skin(pair):
+    (_, _, target), (sn, se, lm) = pair
     mesh = warp.build_mesh(lm, target.shape, DLIB68)
     iod = geometry.interocular(lm, DLIB68)
-    ctrl = [mesh.control_points(p, geometry.fit_similarity(lm[list(DLIB68.rigid)], p[list(DLIB68.rigid)])) for p in (sn_lm, se_lm)]
-    mask = eri.ratio_mask(target.shape[:2], lm, mesh.points[mesh.forehead], DLIB68)
-    rgb = [warp.warp(im, c, mesh.points, mesh.triangles) for im, c in zip((sn, se), ctrl)]
-    luma = [warp.warp(cv2.cvtColor(im, cv2.COLOR_RGB2GRAY), c, mesh.points, mesh.triangles) for im, c in zip((sn, se), ctrl)]
-    assert np.abs(eri.luminance(luma[0]) - eri.luminance(rgb[0])).max() <= 1.001 / 255
-    err = np.abs(eri.expression_ratio(*luma, mask, iod) - eri.expression_ratio(*rgb, mask, iod))
-    assert err.max() < 0.01 and err.mean() < 1e-4
+    motion = np.zeros(len(mesh.points))
+    mouth = list(DLIB68.mouth_outer + DLIB68.mouth_inner)
+    motion[mouth] = 0.1  # a smile: only the mouth moves
+    region = eri.moved(target.shape[:2], mesh.points, motion, mesh.triangles, iod)
+    at = lambda p: region[int(p[1]), int(p[0])]  # noqa: E731
+    assert at(lm[mouth].mean(0)) == 1.0 and at((lm[48] + lm[31]) / 2) > 0.9  # the mouth, the fold beside it
+    assert at(lm[27] + (0, -0.5 * iod)) == 0.0 and at(lm[39]) < 0.2  # not the forehead, hardly the eyes
+    assert region.min() >= 0 and region.max() <= 1
+    assert not eri.moved(target.shape[:2], mesh.points, 0 * motion, mesh.triangles, iod).any()
+
+
+def test_colour_tells_a_change_of_material_from_shading(pair):
+    """A smooth patch of another colour (a lens, a coloured light, the background) is not shading, however smooth."""
+    target, lm, mask, iod = face_frame(pair)
+    left, right = (lm[2] + lm[31]) / 2, (lm[14] + lm[35]) / 2
+    expression = target.copy()
+    for centre, colour in ((left, (120, 150, 170)), (right, (90, 90, 90))):  # a bluish lens, a grey shadow of a frame
+        disc = np.zeros(target.shape[:2], np.float32)
+        cv2.circle(disc, tuple(int(v) for v in centre), int(0.12 * iod), 1.0, -1)
+        disc = cv2.GaussianBlur(disc, (0, 0), 2)[..., None]
+        expression = np.clip(expression * (1 - disc) + np.array(colour, np.float32) * disc + 0.5, 0, 255).astype(np.uint8)
+    ratio = eri.expression_ratio(target, expression, mask, iod)
+    yy, xx = np.mgrid[: target.shape[0], : target.shape[1]]
+    for centre in (left, right):
+        inner = np.hypot(xx - centre[0], yy - centre[1]) < 0.12 * iod - 2 * eri.FILTER_SIGMA * iod  # away from its soft edge
+        assert np.abs(ratio[inner] - 1).max() < 0.01, centre
+        # the same patch in the skin's own colour, darker, would have been shading
+        shade = target.copy()
+        core = np.hypot(xx - centre[0], yy - centre[1]) < 0.12 * iod
+        shade[core] = (shade[core] * 0.6 + 0.5).astype(np.uint8)
+        # clamped to CLAMP[0]; the darkened skin's texture confidence (its relative contrast rises as its luma falls)
+        # fades that by up to 15%: at least 80% of it is transferred
+        assert np.median(eri.expression_ratio(target, shade, mask, iod)[inner]) < 1 - 0.8 * (1 - eri.CLAMP[0]), centre
+
+
+def test_the_target_is_shaded_only_on_its_skin(pair):
+    """Where the target shows hair (003's fringe), it takes no ratio, whatever the source's skin did there."""
+    target, lm, mask, iod = face_frame(pair)
+    x, y = ((lm[2] + lm[31]) / 2).astype(int)
+    cheek = target[y - 32 : y + 32, x - 32 : x + 32]
+    # the source: 003 with skin (its cheek, tiled) where 003 wears a fringe
+    fringe = (slice(int(lm[19, 1] - 0.45 * iod), int(lm[19, 1] - 0.1 * iod)), slice(int(lm[18, 0]), int(lm[25, 0])))
+    source = target.copy()
+    h, w = source[fringe].shape[:2]
+    source[fringe] = np.tile(cheek, (h // 64 + 1, w // 64 + 1, 1))[:h, :w]
+    shaded = source.copy()
+    shaded[fringe] = (shaded[fringe] * 0.8 + 0.5).astype(np.uint8)  # and the expression shades that skin
+    band = (slice(fringe[0].start + 30, fringe[0].stop - 30), slice(fringe[1].start + 30, fringe[1].stop - 30))
+    without, with_target = (eri.expression_ratio(source, shaded, mask, iod, t) for t in (None, target))
+    assert np.median(without[band]) < 0.9  # the source's skin was shaded there
+    # but the target shows hair there: dark, all around (skin shows through its parting)
+    sigma = eri.FILTER_SIGMA * iod
+    dark = (cv2.GaussianBlur(eri.luminance(target), (0, 0), sigma) < 0.5 * eri.luminance(cheek).mean()).astype(np.uint8)
+    reach = int(sigma)
+    hair = cv2.erode(dark, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * reach + 1, 2 * reach + 1)))[band] > 0
+    assert hair.mean() > 0.5 and np.abs(with_target[band][hair] - 1).max() < 0.01

@@ -191,5 +191,7 @@ def test_variants_pair_with_global_in_their_own_variant_and_with_the_paper():
 def test_variants_are_every_combination_named_after_their_options():
     chosen = variants(("similarity", "rbf"), ("mesh", "tps"), (1.0,))
     assert [label for label, _ in chosen] == ["", " [tps]", " [rbf]", " [rbf, tps]"]
-    assert chosen[3][1] == {"global_warp": "rbf", "image_warp": "tps", "strength": 1.0}
+    assert chosen[3][1] == {"global_warp": "rbf", "image_warp": "tps", "strength": 1.0, "retarget": True}
     assert [label for label, _ in variants(strengths=(0.5, 1.0))] == ["", " [S=0.5]"]
+    default = chosen[0][1]
+    assert variants(retargets=(False, True)) == (("", default), (" [no retarget]", {**default, "retarget": False}))

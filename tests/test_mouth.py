@@ -3,9 +3,10 @@
 import cv2
 import numpy as np
 import pytest
+from scipy.spatial import Delaunay
 
 import exprclone
-from exprclone import lips, mouth, raster
+from exprclone import lips, mouth, raster, warp
 from exprclone.layout import DLIB68
 
 INNER = list(DLIB68.mouth_inner)
@@ -29,20 +30,30 @@ def open_pair(photo):
     return on, off, se, se_lm, tn, tn_lm
 
 
-def test_opened_mouth_shows_the_source_teeth(open_pair):
+def test_opened_mouth_shows_the_source_teeth(open_pair, photo):
     on, off, se, se_lm, tn, tn_lm = open_pair
     assert on.mouth_mask is not None and off.mouth_mask is None
-    polygon = polygon_mask(on.image.shape, on.landmarks["final"][INNER])
+    final = on.landmarks["final"]
+    polygon = polygon_mask(on.image.shape, final[INNER])
     inside = on.mouth_mask > 0.95  # where the paste is whole; the rest is the feathered edge
-    assert inside.sum() > 0.5 * polygon.sum() and not (inside & ~polygon).any()
-    source_inside = polygon_mask(se.shape, se_lm[INNER], shrink=4)
-    gain = mouth.tone_gain(se, se_lm, mouth.Reference.measure(tn, tn_lm, DLIB68), DLIB68, pasted=se[source_inside])
-    expected = se[source_inside].astype(float).mean(0) * gain  # the source interior, tone-matched
+    # whole wherever the feather (eroded by one sigma, then blurred) cannot reach: four sigmas in
+    sigma = mouth.FEATHER * mouth.mouth_width(final, DLIB68)
+    core = polygon_mask(on.image.shape, final[INNER], shrink=int(np.ceil(4 * sigma)))
+    assert core.any() and (inside | ~core).all() and not (inside & ~polygon).any()
+    # there it is the source's interior as it lands there (lips and the opening's centre), tone-matched
+    sn, sn_lm = photo("126", original=True)
+    s_exp = lips.uncross(se_lm, DLIB68)
+    points = list(DLIB68.mouth_outer + DLIB68.mouth_inner)
+    src, dst = (np.vstack([p[points], p[INNER].mean(0)]) for p in (s_exp, final))
+    landed = warp.warp(se, src, dst, Delaunay(dst).simplices, on.image.shape[:2]).astype(float)
+    reference = mouth.Reference.measure(tn, lips.uncross(tn_lm, DLIB68), DLIB68, (sn, lips.uncross(sn_lm, DLIB68)))
+    expected = landed[inside].mean(0) * mouth.tone_gain(se, s_exp, reference, DLIB68, landed[polygon])
     pasted = np.abs(on.image[inside].astype(float).mean(0) - expected).mean()
     stretched = np.abs(off.image[inside].astype(float).mean(0) - expected).mean()
     assert stretched > 5 * pasted, (pasted, stretched)  # "far better than the stretched lips"
     # teeth are bright: the mouth interior is now brighter than the stretched lips were
     assert on.image[inside].mean() > off.image[inside].mean() + 20
+    source_inside = polygon_mask(se.shape, se_lm[INNER], shrink=4)
     # but not flat white: the source's teeth are unclipped, and so are the pasted ones
     # (her eye whites read darker than the target's, and the tone match would have glared)
     assert (se[source_inside].max(1) == 255).mean() < 0.01

@@ -71,6 +71,7 @@ def test_the_transfer_controls_reach_the_clone(page):
     page.select_option("#image-warp", "tps")
     page.fill("#strength", "0.5")
     page.uncheck(".region[value=eyes]")
+    page.uncheck("#retarget")
     page.evaluate("document.querySelector('img#result').removeAttribute('src')")
     page.click("#clone")
     page.wait_for_function(
@@ -78,7 +79,9 @@ def test_the_transfer_controls_reach_the_clone(page):
     )
     caption = page.text_content("#result-caption")
     assert "global warp rbf" in caption and "tps" in caption and "strength 0.5" in caption and "only mouth, brows" in caption, caption
+    assert "no retarget" in caption, caption
     page.check(".region[value=eyes]")
+    page.check("#retarget")
     page.select_option("#global-warp", "")
     page.select_option("#image-warp", "mesh")
     page.fill("#strength", "1")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import exprclone
-from exprclone import geometry
+from exprclone import elastic, geometry, global_warp, lips, local_warp, warp
 from exprclone.layout import DLIB68
 from exprclone.pipeline import default_detector
 
@@ -62,9 +62,31 @@ def test_no_expression_leaves_the_target_as_it_was(pair):
     (sn, _, target), (sn_lm, _, tn_lm) = pair
     r = exprclone.clone(sn, sn, target, method="global+eri", landmarks=(sn_lm, sn_lm, tn_lm))
     assert np.abs(r.image.astype(int) - target).max() <= 2
-    # local re-shaping still imposes the source's neutral organ shapes: that is the method
+    # local re-shaping aims at the target's own organs moved by the source: no motion, no change
     r = exprclone.clone(sn, sn, target, method="local", landmarks=(sn_lm, sn_lm, tn_lm))
+    assert np.allclose(r.landmarks["final"], lips.uncross(tn_lm, DLIB68), atol=1e-6)
+    # the paper's aim, the source's own organs, gives the target the source's nose and lips
+    r = exprclone.clone(sn, sn, target, method="local", landmarks=(sn_lm, sn_lm, tn_lm), retarget=False)
     assert not np.allclose(r.landmarks["final"], tn_lm)
+
+
+@pytest.mark.parametrize("warp_name", ["similarity", "rbf"])
+def test_without_retargeting_the_shape_stages_are_the_papers(pair, warp_name):
+    """``retarget=False``: GI carries the source's own motion, LI gives each organ the source's own shape (Eqs. 1-2), and
+    the elastic model balances the two (Eqs. 3-6), each stage exactly as its function of the paper computes it."""
+    images, landmarks = pair
+    s_neu, s_exp, t_neu = (lips.uncross(p, DLIB68) for p in landmarks)
+    carry = dict(similarity=global_warp.global_landmarks, rbf=global_warp.rbf_landmarks)[warp_name]
+    gi = carry(s_neu, s_exp, t_neu, DLIB68)
+    li = local_warp.local_landmarks(gi, s_exp, DLIB68)
+    neighbours = warp.build_mesh(t_neu, images[2].shape, DLIB68).neighbours()
+    paper = {"global": gi, "local": li, "elastic": elastic.elastic_landmarks(gi, li, neighbours, 1.0)}
+    for retarget in (False, True):
+        r = exprclone.clone(*images, method="elastic", lambda_k=1.0, landmarks=landmarks, global_warp=warp_name, retarget=retarget)
+        assert r.options.retarget is retarget
+        for stage, points in paper.items():
+            same = np.allclose(r.landmarks[stage], points, rtol=0, atol=1e-9)
+            assert same is not retarget, (stage, retarget)  # the paper's without retargeting; retargeting changes every stage
 
 
 def test_clone_moves_the_target_mouth_towards_the_source_smile(pair, results):
@@ -158,6 +180,7 @@ def test_the_tps_image_warp_takes_the_same_geometry(pair, results):
         (dict(strength=2.5), "strength", "must be a number from 0 to 2"),
         (dict(strength="strong"), "strength", "must be a number from 0 to 2"),
         (dict(only="nose"), "only", "unknown region 'nose'"),
+        (dict(retarget="no"), "retarget", "must be True or False"),
         (dict(only=()), "only", "unknown region ''"),
         (dict(global_landmarks=np.zeros((60, 2))), "global_landmarks", "found 60 landmarks, expected 68"),
         (dict(global_landmarks=np.full((68, 2), 5000.0)), "global_landmarks", "landmark 0 at (5000, 5000) is outside"),

@@ -282,13 +282,14 @@ def sample_images():
 
 def test_clone_with_the_transfer_options_answers_the_python_apis_image(client, sample_images):
     images, landmarks = sample_images
-    options = dict(global_warp="rbf", image_warp="tps", strength=0.5, only=("mouth", "eyes"))
+    options = dict(global_warp="rbf", image_warp="tps", strength=0.5, only=("mouth", "eyes"), retarget=False)
     expected = exprclone.clone(*images, method="elastic+eri", landmarks=tuple(landmarks), **options)
     form = {"method": "elastic+eri", "global_warp": "rbf", "image_warp": "tps", "strength": "0.5", "only": "mouth,eyes"}
+    form["retarget"] = "false"
     r = client.post("/api/clone?format=json", files=files(), data=form)
     assert r.status_code == 200, r.text
     record = r.json()
-    assert record["options"] == {"global_warp": "rbf", "image_warp": "tps", "strength": 0.5, "only": ["mouth", "eyes"]}
+    assert record["options"] == {"global_warp": "rbf", "image_warp": "tps", "strength": 0.5, "only": ["mouth", "eyes"], "retarget": False}
     image = np.asarray(Image.open(io.BytesIO(base64.b64decode(record["png"]))).convert("RGB"))
     assert np.array_equal(image, expected.image)
 
@@ -323,6 +324,7 @@ def test_compare_draws_figure_19(client):
         ({}, {"strength": "3"}, "strength: "),
         ({}, {"strength": "strong"}, "strength: "),
         ({}, {"only": "nose"}, "only: unknown region 'nose'"),
+        ({}, {"retarget": "perhaps"}, "retarget: "),
         ({}, {"figure": "12"}, "figure: must be 11 or 19"),
         (dict(global_landmarks=("gi.json", b"[[1, 2]]")), {}, "global_landmarks: found 1 landmarks, expected 68"),
         (dict(global_landmarks=("gi.txt", b"[]")), {}, "global_landmarks: a landmark file must be .json or .tem"),

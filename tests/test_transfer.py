@@ -7,7 +7,7 @@ import exprclone
 from exprclone import mouth
 from exprclone.layout import DLIB68
 from exprclone.lips import uncross
-from exprclone.pipeline import Cloner, Expression
+from exprclone.pipeline import Cloner
 
 EYES_AND_BROWS = list(DLIB68.regions["eyes"] + DLIB68.regions["brows"])
 MOUTH = list(DLIB68.regions["mouth"])
@@ -57,9 +57,9 @@ def test_strength_scales_motion_and_the_eri_in_the_log_domain(pair):
     assert half.options.strength == 0.5 and whole.options.strength == 1.0
     # the ERI, on one geometry: its logarithm halved
     (sn, se, tn), (sn_lm, se_lm, tn_lm) = images, landmarks
-    control = Cloner(sn, sn_lm, tn, tn_lm).render(whole.landmarks["global"]).control
-    expression = Expression(se, uncross(se_lm, DLIB68), "auto")
-    (eri, box), (eri_half, box_half) = (Cloner(sn, sn_lm, tn, tn_lm, strength=s).ratio(control, expression) for s in (1, 0.5))
+    cloner = Cloner(sn, sn_lm, tn, tn_lm)
+    rendered, expression = cloner.render(whole.landmarks["global"]), cloner.expression(se, se_lm, "auto")
+    (eri, box), (eri_half, box_half) = (Cloner(sn, sn_lm, tn, tn_lm, strength=s).ratio(rendered, expression) for s in (1, 0.5))
     assert box == box_half and (eri != 1).mean() > 0.05
     assert np.allclose(np.log(eri_half), 0.5 * np.log(eri), atol=1e-5)
 

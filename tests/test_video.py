@@ -216,16 +216,18 @@ def test_a_recording_is_read_once_to_track_and_once_to_fetch(portrait, grid_clip
 
 def test_strength_and_the_other_options_drive_every_frame(portrait, grid_clip):
     """Strength 0 holds the portrait still through the whole performance; the options reach the cloner."""
-    recording = prepare(portrait, grid_clip, neutral_frame="closed", strength=0, global_warp="rbf", image_warp="tps", only=("mouth",))
+    asked = dict(strength=0, global_warp="rbf", image_warp="tps", only=("mouth",), retarget=False)
+    recording = prepare(portrait, grid_clip, neutral_frame="closed", **asked)
     options = recording.driver.cloner.options
-    assert (options.strength, options.global_warp, options.image_warp, options.only) == (0.0, "rbf", "tps", ("mouth",))
+    assert {k: getattr(options, k) for k in asked} == dict(asked, strength=0.0)
     frames = list(recording.frames(read_frames(grid_clip)))
     assert len(frames) == 75 and max(np.abs(f.image.astype(int) - portrait).max() for f in frames) <= 1
 
 
 def test_the_command_takes_strength(grid_clip, tmp_path):
     out = tmp_path / "weak.mp4"
-    p = run("video", PORTRAIT, grid_clip, "-o", out, "--size", 96, "--strength", "0.5", "--global-warp", "rbf", "--only", "mouth")
+    options = ("--strength", "0.5", "--global-warp", "rbf", "--only", "mouth", "--no-retarget")
+    p = run("video", PORTRAIT, grid_clip, "-o", out, "--size", 96, *options)
     assert p.returncode == 0, p.stderr
     assert probe(out).frames == 75
     p = run("video", PORTRAIT, grid_clip, "-o", tmp_path / "bad.mp4", "--strength", "5")

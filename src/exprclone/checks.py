@@ -81,7 +81,7 @@ def check_options(options: dict, n_points: int, target_shape: tuple[int, ...], r
     ----------
     options : dict
         Any of ``global_warp``, ``global_landmarks``, ``image_warp``, ``strength``, ``only``
-        (a tuple of region names, or one comma-separated string).
+        (a tuple of region names, or one comma-separated string), ``retarget`` (a bool).
     n_points : int
         Landmarks per face (for ``global_landmarks``).
     target_shape : tuple of int
@@ -106,7 +106,9 @@ def check_options(options: dict, n_points: int, target_shape: tuple[int, ...], r
     low, high = STRENGTH_RANGE
     if isinstance(o.strength, bool) or not isinstance(o.strength, (int, float)) or not low <= o.strength <= high:
         raise ExprCloneError("strength", f"must be a number from {low:g} to {high:g}, got {o.strength!r}")
-    return Options(o.global_warp, given, o.image_warp, float(o.strength), check_regions(o.only, regions))
+    if not isinstance(o.retarget, (bool, np.bool_)):
+        raise ExprCloneError("retarget", f"must be True or False, got {o.retarget!r}")
+    return Options(o.global_warp, given, o.image_warp, float(o.strength), check_regions(o.only, regions), bool(o.retarget))
 
 
 def check_regions(only: tuple[str, ...] | str | None, regions: tuple[str, ...]) -> tuple[str, ...] | None:

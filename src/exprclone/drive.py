@@ -293,7 +293,7 @@ def prepare(
         What the performance is, for errors (a role, or the caller's file name).
     **options
         ``head_motion``, ``mouth``: as for :class:`Driver`; ``global_warp``,
-        ``image_warp``, ``strength``, ``only``: as for :class:`Cloner` (the options of
+        ``image_warp``, ``strength``, ``only``, ``retarget``: as for :class:`Cloner` (the options of
         :class:`exprclone.options.Options`), for every frame.
     """
     elastic = lookup((method,))[0].uses_lambda

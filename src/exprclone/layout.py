@@ -50,6 +50,8 @@ class Layout:
     rigid: tuple[int, ...]
     #: the two outer eye corners: the face's horizontal axis and scale.
     eye_corners: tuple[int, int]
+    #: for each point, its mirror image across the face's vertical midline (itself on the midline).
+    mirror: tuple[int, ...]
     muscle_areas: tuple[MuscleArea, ...]
 
     @property
@@ -104,6 +106,14 @@ DLIB68 = Layout(
     lip_columns=((50, 61, 67, 58), (51, 62, 66, 57), (52, 63, 65, 56)),
     rigid=(0, 1, 15, 16, 27, 28, 29, 30, 36, 39, 42, 45),
     eye_corners=(36, 45),
+    mirror=(
+        *range(16, -1, -1),  # jaw
+        *range(26, 16, -1),  # brows
+        *(27, 28, 29, 30, 35, 34, 33, 32, 31),  # nose bridge, nostrils
+        *(45, 44, 43, 42, 47, 46, 39, 38, 37, 36, 41, 40),  # eyes
+        *(54, 53, 52, 51, 50, 49, 48, 59, 58, 57, 56, 55),  # outer lips
+        *(64, 63, 62, 61, 60, 67, 66, 65),  # inner lips
+    ),
     muscle_areas=(
         # frontalis: above the middle of each brow
         MuscleArea("forehead_right", (19,), (0.0, -0.35), 0.30, (18, 19, 20)),

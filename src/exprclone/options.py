@@ -1,4 +1,4 @@
-"""How a clone is made beyond its method: the global warp, the image warp, and how much of the expression is transferred.
+"""How a clone is made beyond its method: the global warp, the image warp, how much of the expression is transferred, retargeting.
 
 Pure data, like :mod:`exprclone.methods`: the command line lists the choices without
 loading numpy. An :class:`Options` value is handed to the :class:`~exprclone.pipeline.Cloner`
@@ -17,6 +17,11 @@ Fig. 11, but changes how every method's stages run:
   (Bookstein), smooth across the mesh's triangle edges (:mod:`exprclone.tps`).
 - ``strength`` and ``only`` (not in the paper): how much of the expression is
   transferred, and where (:mod:`exprclone.transfer`).
+- ``retarget`` (not in the paper; on by default): the source's motion is cleaned of the
+  landmark fitter's scatter and of its lopsided part before any global warp, and local
+  re-shaping aims at the target's own organs moved by the source instead of the source's
+  organs (:mod:`exprclone.retarget`). ``retarget=False`` runs the paper's global and local
+  stages as they are.
 
 >>> Options().global_stage, Options(global_warp="rbf").global_stage
 ('similarity', 'rbf')
@@ -60,6 +65,9 @@ class Options:
         Within :data:`STRENGTH_RANGE`.
     only : tuple of str or None
         Regions (:data:`REGIONS`) whose motion alone is transferred; None for all.
+    retarget : bool
+        Make the source's motion the target's before the global and local stages
+        (:mod:`exprclone.retarget`); False: the paper's stages.
     """
 
     global_warp: str = GLOBAL_WARPS[0]
@@ -67,6 +75,7 @@ class Options:
     image_warp: str = IMAGE_WARPS[0]
     strength: float = 1.0
     only: tuple[str, ...] | None = None
+    retarget: bool = True
 
     @property
     def global_stage(self) -> str:

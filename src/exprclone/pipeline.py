@@ -7,8 +7,10 @@ row of :data:`exprclone.methods.TABLE`; how its stages run, from the
 :class:`~exprclone.options.Options` of the :class:`Cloner`: which global warp gives GI
 (:data:`GLOBAL_WARPS`: the paper's, Seol and Lewis's RBF transfer, or landmarks given
 by any other method, which the elastic model refines as in the paper's Figs. 19-21),
-which image warp gives FI (:data:`IMAGE_WARPS`), and how much of the expression is
-transferred (:mod:`exprclone.transfer`).
+which image warp gives FI (:data:`IMAGE_WARPS`), how much of the expression is
+transferred (:mod:`exprclone.transfer`), and whether the source's motion is first made
+the target's (:mod:`exprclone.retarget`, not in the paper; ``retarget=False`` runs the
+paper's global and local stages).
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import elastic, eri, geometry, global_warp, lips, local_warp, metric, muscle, raster, tps, warp
+from . import elastic, eri, geometry, global_warp, lips, local_warp, metric, muscle, retarget, tps, warp
 from . import mouth as mouth_fill
 from .checks import check_image, check_lambda, check_options, check_points
 from .eigenface import Eigenfaces
@@ -116,7 +118,7 @@ def clone(
     **options
         ``detector``, ``eigenfaces``, ``layout``, ``mouth``, and the options of
         :class:`~exprclone.options.Options` (``global_warp``, ``global_landmarks``,
-        ``image_warp``, ``strength``, ``only``): see :func:`clone_methods`.
+        ``image_warp``, ``strength``, ``only``, ``retarget``): see :func:`clone_methods`.
 
     Returns
     -------
@@ -171,7 +173,9 @@ def clone_methods(
           (thin-plate spline);
         - ``strength``: from 0 (the target as it is) to 2, 1 by default;
         - ``only``: region names (``"mouth"``, ``"eyes"``, ``"brows"``) whose motion
-          alone is transferred, None (the default) for the whole face.
+          alone is transferred, None (the default) for the whole face;
+        - ``retarget``: True (the default) makes the source's motion the target's before
+          the global and local stages (:mod:`exprclone.retarget`); False runs the paper's.
 
     Returns
     -------
@@ -192,11 +196,30 @@ def clone_methods(
 
 @dataclass(frozen=True)
 class Expression:
-    """One source expression to clone: its photo, its landmarks (lips made valid) and the lambda_k asked for."""
+    """One source expression to clone (:meth:`Cloner.expression` makes it).
+
+    Attributes
+    ----------
+    image : ndarray of shape (H, W, 3), uint8 RGB
+        Its photo.
+    points : ndarray of shape (N, 2)
+        Its landmarks in the photo, the lips made valid.
+    lambda_k : float or str
+        The lambda_k asked for.
+    moving : ndarray of shape (N, 2)
+        The landmarks whose motion from the source's neutral ones the global warps carry:
+        ``points`` (the paper), or that motion cleaned (:func:`exprclone.retarget.clean`).
+    organs : ndarray of shape (N, 2)
+        What local re-shaping gives each organ the height-to-width ratio of (Eqs. 1-2):
+        ``points``, the source's own organs (the paper), or the target's organs moved by
+        the source (:func:`exprclone.retarget.organ_reference`).
+    """
 
     image: np.ndarray
     points: np.ndarray
     lambda_k: float | str
+    moving: np.ndarray
+    organs: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -219,12 +242,12 @@ class Rendered:
 
 def similarity_warp(cloner: "Cloner", expression: Expression) -> np.ndarray:
     """GI of the paper: the source's motion, similarity-aligned, on the target (:func:`global_warp.global_landmarks`)."""
-    return global_warp.global_landmarks(cloner.s_neu, expression.points, cloner.t_neu, cloner.layout)
+    return global_warp.global_landmarks(cloner.s_neu, expression.moving, cloner.t_neu, cloner.layout)
 
 
 def rbf_warp(cloner: "Cloner", expression: Expression) -> np.ndarray:
     """GI of Seol and Lewis: each landmark's motion by the RBF map's Jacobian (:func:`global_warp.rbf_landmarks`)."""
-    return global_warp.rbf_landmarks(cloner.s_neu, expression.points, cloner.t_neu, cloner.layout, cloner.rbf_jacobians)
+    return global_warp.rbf_landmarks(cloner.s_neu, expression.moving, cloner.t_neu, cloner.layout, cloner.rbf_jacobians)
 
 
 def given_warp(cloner: "Cloner", expression: Expression) -> np.ndarray:
@@ -246,8 +269,8 @@ def global_stage(cloner: "Cloner", expression: Expression, shapes: dict[str, Sha
 
 
 def local_stage(cloner: "Cloner", expression: Expression, shapes: dict[str, Shape]) -> Shape:
-    """LI: each organ of GI re-shaped to the source expression's, Eqs. (1)-(2)."""
-    return Shape(local_warp.local_landmarks(shapes["global"].points, expression.points, cloner.layout))
+    """LI: each organ of GI re-shaped to the expression's organs (:attr:`Expression.organs`), Eqs. (1)-(2)."""
+    return Shape(local_warp.local_landmarks(shapes["global"].points, expression.organs, cloner.layout))
 
 
 def elastic_stage(cloner: "Cloner", expression: Expression, shapes: dict[str, Shape]) -> Shape:
@@ -294,16 +317,34 @@ IMAGE_WARPS: dict[str, Callable[..., np.ndarray]] = {"mesh": mesh_warp, "tps": t
 
 def ratio_image(
     mesh: warp.Mesh,
-    dst: np.ndarray,
+    target: Rendered,
     sources: tuple[np.ndarray, np.ndarray],
     source_ctrl: list[np.ndarray],
-    shape: tuple[int, ...],
+    motion: np.ndarray,
     layout: Layout,
     image_warp: Callable[..., np.ndarray] = mesh_warp,
 ) -> tuple[np.ndarray, tuple[slice, slice]]:
-    """The ERI of the source's two photos in the target's final geometry ``dst``, warped by ``image_warp`` (:data:`IMAGE_WARPS`).
+    """The ERI of the source's two photos in the target's final geometry, warped by ``image_warp`` (:data:`IMAGE_WARPS`).
 
-    The ratio is 1 off the face, so it is computed in the face's box only.
+    The ratio is 1 off the face, so it is computed in the face's box only. It counts
+    only where the expression moves the skin and all three photos show the same skin
+    there (:func:`exprclone.eri.expression_ratio`, its ``mask`` times
+    :func:`exprclone.eri.moved`, the lips exempt from the colour test).
+
+    Parameters
+    ----------
+    mesh : warp.Mesh
+    target : Rendered
+        FI: the target photo warped to its final geometry, and that geometry's control points.
+    sources : tuple of two ndarray of shape (h, w, 3), uint8 RGB
+        The source's neutral and expression photos.
+    source_ctrl : list of two ndarray of shape (P, 2)
+        The control points in each of them.
+    motion : ndarray of shape (P,)
+        How far each control point moves in the source's expression (inter-ocular
+        distances, head motion removed), for :func:`exprclone.eri.moved`.
+    layout : Layout
+    image_warp : callable
 
     Returns
     -------
@@ -312,15 +353,18 @@ def ratio_image(
     box : tuple of slice
         Where it may differ from 1.
     """
+    dst, shape = target.control, target.image.shape
     iod = geometry.interocular(dst[: mesh.n_landmarks], layout)
     rows, cols = box = geometry.box(dst[: mesh.n_moving], shape, ERI_MARGIN * iod, closed=False)
     size = (rows.stop - rows.start, cols.stop - cols.start)
     local = dst - (cols.start, rows.start)
-    # the ratio needs the luma only: one channel to warp instead of three
-    neutral, expression = (image_warp(raster.luma(img), c, local, mesh, size) for img, c in zip(sources, source_ctrl))
+    # RGB, not the luma alone: the colour tells a change of material from shading
+    neutral, expression = (image_warp(img, c, local, mesh, size) for img, c in zip(sources, source_ctrl))
     mask = eri.ratio_mask(size, local[: mesh.n_landmarks], local[mesh.forehead], layout)
+    mask *= eri.moved(size, local, motion, mesh.triangles, iod)
+    lip_region = eri.lips(size, local[: mesh.n_landmarks], layout)
     out = np.ones(shape[:2], np.float32)
-    out[box] = eri.expression_ratio(neutral, expression, mask, iod)
+    out[box] = eri.expression_ratio(neutral, expression, mask, iod, target.image[box], lip_region)
     return out, box
 
 
@@ -390,11 +434,20 @@ class Cloner:
     ) -> dict[str, CloneResult]:
         """The source expression on the target face, by each of ``methods`` (see :func:`clone_methods`)."""
         chosen = lookup(methods)
-        expression = Expression(source_expression, lips.uncross(source_expression_points, self.layout), check_lambda(lambda_k))
+        expression = self.expression(source_expression, source_expression_points, check_lambda(lambda_k))
         shapes = self.shapes(expression, {m.shape for m in chosen})
         rendered = {kind: self.render(shapes[kind].points) for kind in {m.shape for m in chosen}}
-        ratios = {kind: self.ratio(rendered[kind].control, expression) for kind in {m.shape for m in chosen if m.eri}}
+        ratios = {kind: self.ratio(rendered[kind], expression) for kind in {m.shape for m in chosen if m.eri}}
         return {m.name: self.result(m, expression, shapes, rendered[m.shape], ratios.get(m.shape), mouth) for m in chosen}
+
+    def expression(self, image: np.ndarray, points: np.ndarray, lambda_k: float | str) -> Expression:
+        """One source expression, prepared for the shape stages: with ``retarget``, its motion cleaned and the organs
+        local re-shaping aims at made the target's (:mod:`exprclone.retarget`); without, the paper's (its own points)."""
+        points = lips.uncross(points, self.layout)
+        if not self.options.retarget:
+            return Expression(image, points, lambda_k, points, points)
+        cleaned = retarget.clean(self.s_neu, points, self.layout)
+        return Expression(image, points, lambda_k, cleaned, retarget.organ_reference(self.s_neu, cleaned, self.t_neu, self.layout))
 
     def shapes(self, expression: Expression, wanted: set[str]) -> dict[str, Shape]:
         """The shape stages (:data:`SHAPE_STAGES`) up to the last one ``wanted``; GI and LI always."""
@@ -412,11 +465,15 @@ class Cloner:
         control, unfolded = warp.unfold(mesh.points, control, mesh.triangles, mesh.n_moving)
         return Rendered(self.image_warp(self.target_image, mesh.points, control, mesh), control, unfolded)
 
-    def ratio(self, control: np.ndarray, expression: Expression) -> tuple[np.ndarray, tuple[slice, slice]]:
-        """The ERI: both source photos warped to the target's geometry ``control`` (Liu et al.), and the box where it is not 1."""
+    def ratio(self, target: Rendered, expression: Expression) -> tuple[np.ndarray, tuple[slice, slice]]:
+        """The ERI: both source photos warped to the geometry of FI ``target`` (Liu et al.), and the box where it is not 1."""
         placed = self.mesh.control_points(expression.points, geometry.fit_rigid(self.t_neu, expression.points, self.layout))
-        sources, shape = (self.source_image, expression.image), self.target_image.shape
-        ratio, box = ratio_image(self.mesh, control, sources, [self._source_neutral_ctrl, placed], shape, self.layout, self.image_warp)
+        # how far the source's skin moves at each control point, its head's motion removed (for eri.moved)
+        aligned = global_warp.remove_head_motion(self.s_neu, expression.points, self.layout)
+        shift = self.mesh.control_points(aligned, geometry.fit_rigid(self.t_neu, self.s_neu, self.layout)) - self._source_neutral_ctrl
+        motion = np.linalg.norm(shift, axis=1) / geometry.interocular(self.s_neu, self.layout)
+        sources, ctrl = (self.source_image, expression.image), [self._source_neutral_ctrl, placed]
+        ratio, box = ratio_image(self.mesh, target, sources, ctrl, motion, self.layout, self.image_warp)
         return self.transfer.ratio(ratio, box), box
 
     def result(

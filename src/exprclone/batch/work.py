@@ -36,7 +36,7 @@ M_TRIM_THRESHOLD, M_MMAP_THRESHOLD, BUFFER_BYTES = -1, -3, 32 * 1024 * 1024
 class Options:
     """The job's options: ``method`` and ``lambda_k`` for rows that do not set their own, and for every row the
     mouth interior and the options of :class:`exprclone.options.Options` (``transfer``: global and image warp,
-    strength, regions; keywords of the :class:`~exprclone.pipeline.Cloner`)."""
+    strength, regions, retargeting; keywords of the :class:`~exprclone.pipeline.Cloner`)."""
 
     method: str = "e+md"
     lambda_k: float | str = "auto"

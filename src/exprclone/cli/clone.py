@@ -52,4 +52,6 @@ def describe(options) -> str:
         said.append(f"strength {options.strength:g}")
     if options.only is not None:
         said.append(f"only {','.join(options.only)}")
+    if options.retarget != default.retarget:
+        said.append("no retarget")
     return "".join(f", {s}" for s in said)

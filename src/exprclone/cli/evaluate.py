@@ -39,7 +39,7 @@ def add_parser(sub) -> None:
     e.add_argument("--methods", default="all", help="comma-separated methods, or all (default)")
     e.add_argument("--out", default="report", help="report folder (default: report/)")
     e.add_argument("--jobs", type=int, default=1, help="processes to use (default 1)")
-    variants = "; every combination of --global-warps, --image-warps and --strengths is a variant, scored beside the others"
+    variants = "; every combination of --global-warps, --image-warps, --strengths and --retargets is a variant, scored beside the others"
     e.add_argument(
         "--global-warps",
         type=listed(GLOBAL_WARPS, "global warp"),
@@ -56,6 +56,13 @@ def add_parser(sub) -> None:
     )
     e.add_argument(
         "--strengths", type=listed(strength_arg, "strength"), default=(1.0,), metavar="LIST", help="comma-separated strengths (default 1)"
+    )
+    e.add_argument(
+        "--retargets",
+        type=lambda text: tuple(value == "on" for value in listed(("on", "off"), "retarget")(text)),
+        default=(True,),
+        metavar="LIST",
+        help="on (default), off (the paper's global and local stages, --no-retarget), or on,off",
     )
 
 
@@ -76,7 +83,7 @@ def run(args: argparse.Namespace) -> None:
         raise ExprCloneError("--methods", e.problem) from None
     data = Dataset.open(args.data or samples.london())
     pairs = data.pairs(args.pairs, args.seed)
-    chosen = variants(args.global_warps, args.image_warps, args.strengths)
+    chosen = variants(args.global_warps, args.image_warps, args.strengths, args.retargets)
     bar = lambda total, what: Bar(sys.stderr, total, what)  # noqa: E731
     rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=bar, variants=chosen)
     command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"

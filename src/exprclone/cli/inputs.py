@@ -77,8 +77,8 @@ def add_inputs(p: argparse.ArgumentParser) -> None:
 
 
 def add_transfer(p: argparse.ArgumentParser, given: bool) -> None:
-    """The options of :class:`exprclone.options.Options`: the global and image warps, strength and regions
-    (``given``: also ``--global-landmarks``, the landmarks of one expression)."""
+    """The options of :class:`exprclone.options.Options`: the global and image warps, strength, regions and
+    retargeting (``given``: also ``--global-landmarks``, the landmarks of one expression)."""
     warps = p.add_mutually_exclusive_group()
     warps.add_argument(
         "--global-warp",
@@ -109,6 +109,14 @@ def add_transfer(p: argparse.ArgumentParser, given: bool) -> None:
         metavar="REGIONS",
         help=f"transfer the motion of these regions only ({','.join(REGIONS)}), the others held where they are",
     )
+    p.add_argument(
+        "--no-retarget",
+        dest="retarget",
+        action="store_false",
+        default=None,
+        help="run the paper's global and local stages: the source's motion as it is, and its own organ shapes"
+        " (by default the motion is cleaned and each organ keeps the target's own shape; README: Fidelity to the target)",
+    )
 
 
 def transfer_options(args: argparse.Namespace, target_shape: tuple[int, ...] | None = None) -> dict:
@@ -117,7 +125,7 @@ def transfer_options(args: argparse.Namespace, target_shape: tuple[int, ...] | N
     from ..io.landmarks import read_landmarks
 
     given = getattr(args, "global_landmarks", None)
-    options = dict(global_warp=args.global_warp, image_warp=args.image_warp, strength=args.strength, only=args.only)
+    options = dict(global_warp=args.global_warp, image_warp=args.image_warp, strength=args.strength, only=args.only, retarget=args.retarget)
     options["global_landmarks"] = None if given is None else read_landmarks(given, target_shape)
     return {k: v for k, v in options.items() if v is not None}
 

@@ -17,11 +17,12 @@ at least :data:`STRONG_SMILE` (20%) between B's two photos, relative to the oute
 -corner distance (head motion removed).
 
 Variants: every method may also run with other options of the clone (another global
-warp, the TPS image warp, another strength; :func:`variants`), its rows named after the
-method and the variant (``e+md [rbf]``). Each row's paired mouth difference is to global
+warp, the TPS image warp, another strength, the paper's stages without retargeting;
+:func:`variants`), its rows named after the method and the variant (``e+md [rbf]``,
+``e+md [no retarget]``). Each row's paired mouth difference is to global
 warping in the same variant (is the elastic model better than the GI it starts from?),
 and :func:`contrasts` pairs each method in a variant with the same method in the
-paper's setting (is the RBF transfer better than the similarity one?).
+default setting (is the RBF transfer better than the similarity one? does retargeting help?).
 """
 
 from __future__ import annotations
@@ -70,7 +71,7 @@ FIELDS = (
     "lambda_k",
     "variant",
 )
-#: the paper's setting: the variant of no options, whose rows carry the methods' bare names.
+#: the default setting: the variant of no options (retargeting on), whose rows carry the methods' bare names.
 PAPER = ("", {})
 #: methods compared with the result they refine, in each variant (:func:`contrasts`): the elastic model with the
 #: global warp it starts from (the paper's Figs. 19-21), E+MD with the global warp and ERI (its Table 1).
@@ -96,24 +97,28 @@ def smile_strength(neutral: np.ndarray, smile: np.ndarray) -> float:
 
 
 def variant_label(options: dict) -> str:
-    """What follows a method's name in a variant's rows: nothing in the paper's setting, else ``" [rbf, tps, S=1.5]"``.
+    """What follows a method's name in a variant's rows: nothing in the default setting, else ``" [rbf, tps, S=1.5]"``.
 
     Examples
     --------
     >>> variant_label({}), variant_label(dict(global_warp="rbf", strength=1.5)), variant_label(dict(image_warp="mesh"))
     ('', ' [rbf, S=1.5]', '')
+    >>> variant_label(dict(global_warp="rbf", retarget=False))
+    ' [rbf, no retarget]'
     """
     said = [options.get("global_warp", "similarity"), options.get("image_warp", "mesh")]
     said = [word for word in said if word not in ("similarity", "mesh")]
     if options.get("strength", 1.0) != 1.0:
         said.append(f"S={options['strength']:g}")
+    if not options.get("retarget", True):
+        said.append("no retarget")
     return f" [{', '.join(said)}]" if said else ""
 
 
-def variants(global_warps=("similarity",), image_warps=("mesh",), strengths=(1.0,)) -> tuple[tuple[str, dict], ...]:
-    """Every combination of the options, each ``(label, clone options)`` (:func:`variant_label`), the paper's setting first if asked."""
-    combinations = itertools.product(global_warps, image_warps, strengths)
-    options = [{k: v for k, v in zip(("global_warp", "image_warp", "strength"), c)} for c in combinations]
+def variants(global_warps=("similarity",), image_warps=("mesh",), strengths=(1.0,), retargets=(True,)) -> tuple[tuple[str, dict], ...]:
+    """Every combination of the options, each ``(label, clone options)`` (:func:`variant_label`), the default setting first if asked."""
+    combinations = itertools.product(global_warps, image_warps, strengths, retargets)
+    options = [{k: v for k, v in zip(("global_warp", "image_warp", "strength", "retarget"), c)} for c in combinations]
     return tuple(sorted(((variant_label(o), o) for o in options), key=lambda v: v[0] != ""))
 
 
@@ -291,7 +296,7 @@ def table(summary: list[dict]) -> str:
 def contrasts(rows: list[dict], strong_only: bool = False) -> list[dict]:
     """Pairs of rows compared pair by pair: in each variant, the elastic model against the global warp it starts
     from, and E+MD against the global warp with ERI (:data:`REFINED`); then each method in each variant against the
-    same method in the paper's setting.
+    same method in the default setting.
 
     Returns
     -------
@@ -345,7 +350,7 @@ def write_report(
     command: str,
     variants: tuple[tuple[str, dict], ...] = (PAPER,),
 ) -> str:
-    """``pairs.csv``, ``summary.md`` (with the variants against the paper's setting, :func:`contrasts`, if there are
+    """``pairs.csv``, ``summary.md`` (with the variants against the default setting, :func:`contrasts`, if there are
     any) and the gallery (:func:`_gallery`) of e+md pairs in the first variant."""
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "pairs.csv", "w", newline="") as f:
@@ -377,7 +382,7 @@ def write_report(
         "",
     ]
     if contrasts(rows):
-        text += ["## Pair by pair: the elastic model on its GI in each variant, and each variant against the paper's", ""]
+        text += ["## Pair by pair: the elastic model on its GI in each variant, and each variant against the default", ""]
         text += ["All pairs, then the strong smiles.", ""]
         text += [contrast_table(contrasts(rows)), "", contrast_table(contrasts(rows, strong_only=True)), ""]
     gallery = _gallery(out, data, rows, landmarks, "e+md" if "e+md" in methods else methods[-1], variants[0])

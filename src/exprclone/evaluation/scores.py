@@ -11,14 +11,18 @@ person's real smile, a clone of A's smile onto B can be compared with B's own sm
   face-recognition-models) of the result and of the target's neutral photo; dlib calls
   two faces the same person below 0.6;
 * **teeth**: how much tooth shows between the lips (:func:`teeth`), so that a clone of
-  a smile that shows teeth can be checked to show them too (:data:`TEETH_SHOWN`).
+  a smile that shows teeth can be checked to show them too (:data:`TEETH_SHOWN`);
+* **material swaps**: where the source's two photos show different things, not the same
+  skin shaded otherwise (:func:`material_swaps`), so that a clone can be checked to take
+  no expression ratio there.
 """
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 
-from .. import geometry
+from .. import eri, geometry, warp
 from ..landmarks import model_path
 from ..layout import Layout
 from ..mouth import interior, mouth_width
@@ -31,6 +35,10 @@ SAME_PERSON = 0.6
 #: (0.0028, a lip piercing; no closed smile above 0.0011) and the least of the 36 smiles
 #: that show teeth to the eye (0.0055).
 TEETH_SHOWN = 0.004
+#: a change of luma by this factor or more between the source's two photos is no shading: the
+#: ERI is clamped to [0.7, 1.4] (:data:`exprclone.eri.CLAMP`), and hair against skin, skin
+#: against the background or a highlight against skin differ by more.
+SWAP_FACTOR = 2.0
 
 
 def landmark_error(result: np.ndarray, truth: np.ndarray, layout: Layout) -> dict[str, float]:
@@ -106,3 +114,36 @@ class FaceDescriptor:
 def identity_distance(a: np.ndarray, b: np.ndarray) -> float:
     """Euclidean distance of two face descriptors (same person below :data:`SAME_PERSON`)."""
     return float(np.linalg.norm(a - b))
+
+
+def material_swaps(result, source_neutral: np.ndarray, source_expression: np.ndarray, layout: Layout) -> np.ndarray:
+    """Where the source's two photos show different things, on the face of a clone: ``(H, W)`` bool in its frame.
+
+    Both photos are placed on the result's final geometry as the ERI places them (the
+    mesh of the target's neutral landmarks, each photo's rigid landmarks aligned), their
+    luma smoothed at the ERI's scale (:data:`exprclone.eri.FILTER_SIGMA`); a swap is
+    where one is :data:`SWAP_FACTOR` times as bright as the other, inside the ERI's face
+    mask (:func:`exprclone.eri.ratio_mask`): a fringe that moved, a highlight, a shadow's
+    edge.
+
+    Parameters
+    ----------
+    result : exprclone.pipeline.CloneResult
+    source_neutral, source_expression : ndarray of shape (h, w, 3), uint8 RGB
+        The source's photos the result was made from.
+    layout : Layout
+    """
+    marks, shape = result.landmarks, result.image.shape
+    mesh = warp.build_mesh(marks["target_neutral"], shape, layout)
+    dst = mesh.control_points(marks["final"])
+    placed = [
+        mesh.control_points(p, geometry.fit_rigid(marks["target_neutral"], p, layout))
+        for p in (marks["source_neutral"], marks["source_expression"])
+    ]
+    neutral, expression = (
+        warp.warp(image, c, dst, mesh.triangles, shape[:2]) for image, c in zip((source_neutral, source_expression), placed)
+    )
+    sigma = eri.FILTER_SIGMA * geometry.interocular(marks["final"], layout)
+    blurred = [cv2.GaussianBlur(eri.luminance(image), (0, 0), sigma) + eri.EPS for image in (neutral, expression)]
+    face = eri.ratio_mask(shape[:2], dst[: mesh.n_landmarks], dst[mesh.forehead], layout) > 0.5
+    return face & (np.abs(np.log(blurred[1] / blurred[0])) > np.log(SWAP_FACTOR))

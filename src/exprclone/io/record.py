@@ -23,7 +23,7 @@ def result_record(result, inputs: dict[str, str]) -> dict:
     -------
     dict
         ``inputs``, ``method``, ``options`` (``global_warp``: similarity, rbf or given;
-        ``image_warp``, ``strength``, ``only``), ``lambda_k``, ``db_curve`` (lambda_k and
+        ``image_warp``, ``strength``, ``only``, ``retarget``), ``lambda_k``, ``db_curve`` (lambda_k and
         DB of each candidate), ``muscle_strengths``, ``unfolded_points`` and
         ``landmarks`` (of each stage, to 1/1000 pixel).
     """
@@ -36,6 +36,7 @@ def result_record(result, inputs: dict[str, str]) -> dict:
             "image_warp": options.image_warp,
             "strength": options.strength,
             "only": None if options.only is None else list(options.only),
+            "retarget": options.retarget,
         },
         "lambda_k": _number(result.lambda_k),
         "db_curve": None if curve is None else [{"lambda_k": _number(lam), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],

@@ -59,9 +59,12 @@ async def transfer_form(
         float, Form(ge=STRENGTH_RANGE[0], le=STRENGTH_RANGE[1], description="how much of the expression: 0 (none) to 2, 1 all of it")
     ] = 1.0,
     only: Annotated[str, Form(description=f"comma-separated regions ({', '.join(REGIONS)}) whose motion alone is transferred")] = "",
+    retarget: Annotated[
+        bool, Form(description="make the source's motion the target's (default); false: the paper's global and local stages")
+    ] = True,
 ) -> dict:
     """The options of :class:`exprclone.options.Options` from the form, checked as the Python API checks them."""
-    asked = dict(global_warp=global_warp, image_warp=image_warp, strength=strength, only=only or None)
+    asked = dict(global_warp=global_warp, image_warp=image_warp, strength=strength, only=only or None, retarget=retarget)
     asked = {k: v for k, v in asked.items() if v is not None}
     checked = check_options(asked, 1, (1, 1), REGIONS)
     return {k: getattr(checked, k) for k in asked if getattr(checked, k) is not None}
@@ -172,7 +175,8 @@ async def clone(
 ):
     """The source's expression on the target: PNG, or with ``?format=json`` the JSON record of ``--save-json`` plus ``png`` (base64).
 
-    ``global_warp``, ``image_warp``, ``strength``, ``only`` and ``global_landmarks`` are the options of ``exprclone clone``."""
+    ``global_warp``, ``image_warp``, ``strength``, ``only``, ``retarget`` and ``global_landmarks`` are the options of
+    ``exprclone clone``."""
     asked = await clone_request(request, method, lambda_text, mouth, uploads, transfer)
     png, record = await request.app.state.work.run(work.clone, asked)
     if format == "json":
@@ -225,7 +229,7 @@ async def video(
 ) -> dict:
     """Start a video job: ``202 {"id", "status", "result"}``; follow it at ``/api/jobs/{id}``.
 
-    ``global_warp``, ``image_warp``, ``strength`` and ``only`` are the options of ``exprclone video``."""
+    ``global_warp``, ``image_warp``, ``strength``, ``only`` and ``retarget`` are the options of ``exprclone video``."""
     options = dict(method=lookup((method,))[0].name, lambda_k=parse_lambda(lambda_text), neutral_frame=neutral_frame(neutral))
     options.update(mouth=mouth, head_motion=head_motion, **transfer)
     photo = await read_upload(portrait, "portrait")

@@ -1,7 +1,7 @@
 """Live: a portrait that follows a webcam, frame by frame, over a WebSocket (``/api/live``, the page ``/live``).
 
 The protocol. The page sends a text message ``{"type": "start", "method", "mouth",
-"size", "lambda"}`` (and any of ``strength``, ``only``, ``global_warp``, ``image_warp``:
+"size", "lambda"}`` (and any of ``strength``, ``only``, ``retarget``, ``global_warp``, ``image_warp``:
 the options of :class:`exprclone.options.Options`), then the portrait as one binary message; the server answers
 ``{"type": "ready", "width", "height"}`` or ``{"type": "error", "error"}``. Then each
 camera frame goes as a binary message: a 4-byte big-endian sequence number and a JPEG
@@ -51,7 +51,7 @@ SIZES = (256, 512)
 #: the sequence number before each frame.
 SEQUENCE = struct.Struct(">I")
 #: the options of :class:`exprclone.options.Options` a start or options message may carry (GI from a file aside).
-TRANSFER = ("global_warp", "image_warp", "strength", "only")
+TRANSFER = ("global_warp", "image_warp", "strength", "only", "retarget")
 
 
 def decode_jpeg(content: bytes) -> np.ndarray:

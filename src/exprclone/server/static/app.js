@@ -138,6 +138,7 @@ function addTransfer(form, withGiven) {
   const checked = regions.filter((box) => box.checked).map((box) => box.value);
   if (!checked.length) throw new Error("only: check at least one region");
   if (checked.length < regions.length) form.append("only", checked.join(","));
+  form.append("retarget", $("#retarget").checked ? "true" : "false");
   if (withGiven && fileOf("global_landmarks")) form.append("global_landmarks", fileOf("global_landmarks"));
 }
 
@@ -173,7 +174,7 @@ $("#clone").addEventListener("click", async () => {
     const lambda = record.lambda_k === null ? "" : `, λk = ${record.lambda_k}`;
     const o = record.options;
     const how = [o.global_warp !== "similarity" ? `global warp ${o.global_warp}` : "", o.image_warp !== "mesh" ? o.image_warp : "",
-      o.strength !== 1 ? `strength ${o.strength}` : "", o.only ? `only ${o.only.join(", ")}` : ""].filter(Boolean);
+      o.strength !== 1 ? `strength ${o.strength}` : "", o.only ? `only ${o.only.join(", ")}` : "", o.retarget ? "" : "no retarget"].filter(Boolean);
     $("#result-caption").textContent = `${record.method}${lambda}${how.map((h) => `, ${h}`).join("")}. `;
     $("#download-png").href = png;
     $("#download-json").href = URL.createObjectURL(new Blob([JSON.stringify(record, null, 1)], { type: "application/json" }));
