@@ -34,6 +34,8 @@ its measured effect.
 
 from __future__ import annotations
 
+import functools
+
 import cv2
 import numpy as np
 from scipy import stats
@@ -67,6 +69,9 @@ MOTION_SPREAD = 0.1
 CHROMA_SIGMA = FILTER_SIGMA
 #: the face's colour is fitted on this share of its pixels, those nearest its median.
 CORE = 0.7
+#: the colour fits and the light's trend are fitted on at most this many of the trusted pixels, evenly
+#: spread (a fit's standard error at that count is under 1% of the spread it measures).
+FIT_PIXELS = 16384
 #: a colour (or a change of chromaticity) this many robust standard deviations from the
 #: face's starts to fade the ratio, and ends it: the three-sigma rule, not tuned. Of a
 #: Gaussian spread of skin colours, 1% (chromaticity) to 3% (with the luma) lies beyond 3,
@@ -198,8 +203,8 @@ def colour(image: np.ndarray, iod: float, step: int = 1) -> np.ndarray:
     return np.dstack([np.log(rgb[..., [0, 2]] / rgb[..., 1:2]), np.log(rgb @ raster.LUMA)])
 
 
-def robust_gaussian(values: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-    """Centre and inverse covariance of the k-vectors ``values`` (``(h, w, k)``) over the pixels of ``weight > 0.5``.
+def robust_gaussian(values: np.ndarray, trusted: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """Centre and inverse covariance of the k-vectors ``values`` (``(h, w, k)``) over the pixels ``trusted`` (flat indices).
 
     The centre is their median, the covariance that of the :data:`CORE` share nearest to
     it (hair, lips and a highlight on the face must not widen what counts as skin),
@@ -207,15 +212,26 @@ def robust_gaussian(values: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray,
     there, ``P(chi2_{k+2} < q) / P(chi2_k < q)`` at the core's radius ``q``). None when
     fewer than 8 pixels are trusted.
     """
-    face = values[weight > 0.5]
+    face = values[np.unravel_index(trusted, values.shape[:2])]
     if len(face) < 8:
         return None
     k = values.shape[-1]
     centre = np.median(face, 0)
     near = np.linalg.norm(face - centre, axis=1)
     core = face[near <= np.percentile(near, 100 * CORE)]
-    kept = stats.chi2.cdf(stats.chi2.ppf(CORE, k), k + 2) / CORE
-    return centre, np.linalg.inv(np.atleast_2d(np.cov(core.T)) / kept + 1e-8 * np.eye(k))
+    return centre, np.linalg.inv(np.atleast_2d(np.cov(core.T)) / core_variance(k) + 1e-8 * np.eye(k))
+
+
+@functools.cache
+def core_variance(k: int) -> float:
+    """The share of a k-dimensional Gaussian's variance left in its :data:`CORE` share nearest the centre."""
+    return stats.chi2.cdf(stats.chi2.ppf(CORE, k), k + 2) / CORE
+
+
+def evenly(weight: np.ndarray) -> np.ndarray:
+    """Flat indices of at most :data:`FIT_PIXELS` of the pixels of ``weight > 0.5``, evenly spread over them."""
+    trusted = np.flatnonzero(weight > 0.5)
+    return trusted[:: max(1, -(-len(trusted) // FIT_PIXELS))]
 
 
 def fade_out(values: np.ndarray, centre: np.ndarray, inverse: np.ndarray) -> np.ndarray:
@@ -255,17 +271,17 @@ def skin(images: tuple[np.ndarray, ...], weight: np.ndarray, iod: float, step: i
     -------
     ndarray of shape (h, w), float32
     """
-    out = np.ones(weight.shape, np.float32)
+    out, trusted = np.ones(weight.shape, np.float32), evenly(weight)
     colours = [colour(image, iod, step) for image in images]
     for i, c in enumerate(colours):
         c = c[..., :2] if i == 1 else c
-        fit = robust_gaussian(c, weight)
+        fit = robust_gaussian(c, trusted)
         if fit is not None:
             out *= fade_out(c, *fit)
-    hue = robust_gaussian(colours[0][..., :2], weight)
+    hue = robust_gaussian(colours[0][..., :2], trusted)
     if hue is not None:
         change = colours[1][..., :2] - colours[0][..., :2]
-        out *= fade_out(change, np.median(change[weight > 0.5], 0), hue[1])
+        out *= fade_out(change, np.median(change[np.unravel_index(trusted, change.shape[:2])], 0), hue[1])
     return out if exempt is None else np.maximum(out, exempt)
 
 
@@ -301,7 +317,7 @@ def light_trend(log_ratio: np.ndarray, weight: np.ndarray, iterations: int = 8) 
     ndarray of shape (h, w), float32
         0 where nothing is trusted.
     """
-    ys, xs = np.nonzero(weight > 0.5)
+    ys, xs = np.unravel_index(evenly(weight), weight.shape)
     if len(xs) < 3:
         return np.zeros(log_ratio.shape, np.float32)
     h, w = log_ratio.shape
@@ -309,11 +325,10 @@ def light_trend(log_ratio: np.ndarray, weight: np.ndarray, iterations: int = 8) 
     target = log_ratio[ys, xs].astype(float)
     row_weight = np.ones(len(xs))
     for _ in range(iterations):
-        root = np.sqrt(row_weight)[:, None]
-        coef = np.linalg.lstsq(design * root, target * root[:, 0], rcond=None)[0]
+        weighted = design.T * row_weight  # the normal equations: 3x3 (lstsq of all the rows waited on BLAS threads)
+        coef = np.linalg.lstsq(weighted @ design, weighted @ target, rcond=None)[0]
         row_weight = 1.0 / np.maximum(np.abs(design @ coef - target), 1e-4)
-    grid_y, grid_x = np.mgrid[:h, :w]
-    return (coef[0] + coef[1] * grid_x / w + coef[2] * grid_y / h).astype(np.float32)
+    return (coef[0] + coef[1] * np.arange(w) / w + coef[2] * np.arange(h)[:, None] / h).astype(np.float32)
 
 
 def expression_ratio(
