@@ -57,6 +57,8 @@ class Watched:
         ws.on("framereceived", received)
 
     def report(self, seconds: float) -> str:
+        if not self.answered:
+            return "no frame answered"
         start = self.answered[0][0] + SETTLE
         end = start + seconds
         answered = [(t, n) for t, n in self.answered if start <= t < end]
@@ -80,10 +82,14 @@ def run(url: str, flags: tuple[str, ...], size: str, sessions: int, args) -> lis
         for page in pages:
             page.click("#start")
         pages[0].wait_for_timeout(1000 * (args.seconds + SETTLE + 2))
-        readouts = [(page.text_content("#fps"), page.text_content("#latency")) for page in pages]
+        readouts = [(page.text_content("#fps"), page.text_content("#latency"), page.text_content("#error")) for page in pages]
         for page in pages:
-            page.click("#stop")
-    return [f"{w.report(args.seconds)} (the page says {fps} fps, {latency} ms to shown)" for w, (fps, latency) in zip(watched, readouts)]
+            if page.is_enabled("#stop"):  # a session the server ended has stopped already: its error is reported
+                page.click("#stop")
+    return [
+        f"{w.report(args.seconds)} (the page says {fps} fps, {latency} ms to shown{'; ' + error if error else ''})"
+        for w, (fps, latency, error) in zip(watched, readouts)
+    ]
 
 
 def main() -> None:

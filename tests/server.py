@@ -5,6 +5,7 @@ import signal
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 
 import httpx
@@ -20,13 +21,18 @@ def free_port() -> int:
 
 
 class Server:
-    """``exprclone serve ARGS`` in a process of its own; ``url`` once it answers ``/api/health``."""
+    """``exprclone serve ARGS`` in a process of its own; ``url`` once it answers ``/api/health``.
+
+    Its output goes to temporary files, not pipes: a pipe nobody reads while the server
+    runs fills up (64 KB of log), and the server then stops at its next line.
+    """
 
     def __init__(self, *args: str) -> None:
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
         command = [sys.executable, "-m", "exprclone", "serve", "--port", str(self.port), *args]
-        self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.output = tempfile.TemporaryFile("w+"), tempfile.TemporaryFile("w+")
+        self.process = subprocess.Popen(command, stdout=self.output[0], stderr=self.output[1], text=True)
         deadline = time.time() + START_TIMEOUT
         while time.time() < deadline and self.process.poll() is None:
             try:
@@ -35,14 +41,19 @@ class Server:
             except httpx.TransportError:
                 time.sleep(0.2)
         self.stop()
-        raise RuntimeError(f"the server did not start: {self.process.stderr.read()}")
+        raise RuntimeError(f"the server did not start: {self.stop()[1]}")
 
     def stop(self) -> tuple[str, str]:
         """Ctrl-C (SIGINT) to the server's own PID, as a user would stop it; its output."""
         if self.process.poll() is None:
             os.kill(self.process.pid, signal.SIGINT)
         try:
-            return self.process.communicate(timeout=30)
+            self.process.wait(timeout=30)
         except subprocess.TimeoutExpired:
             self.process.kill()
-            return self.process.communicate()
+            self.process.wait()
+        texts = []
+        for file in self.output:
+            file.seek(0)
+            texts.append(file.read())
+        return texts[0], texts[1]
