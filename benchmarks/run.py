@@ -37,7 +37,8 @@ import numpy as np
 from exprclone import METHODS, clone, clone_methods, elastic, eri, geometry, global_warp, local_warp, metric, muscle, tps, warp
 from exprclone.io.images import load_image
 from exprclone.layout import DLIB68
-from exprclone.pipeline import default_detector, default_eigenfaces, tps_refine
+from exprclone.models import default_detector, default_eigenfaces
+from exprclone.stages import tps_refine
 
 
 def median_ms(fn, repeat: int) -> float:

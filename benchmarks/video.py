@@ -26,9 +26,10 @@ from pathlib import Path
 from run import median_ms
 
 from exprclone import cli, drive, tracking
+from exprclone.io.frames import resize_portrait
 from exprclone.io.images import load_image
 from exprclone.io.video import probe, read_frames, write_video
-from exprclone.pipeline import default_detector
+from exprclone.models import default_detector
 
 SIZE = 512
 OUT = os.path.join(tempfile.gettempdir(), "exprclone-bench.mp4")
@@ -48,7 +49,7 @@ def main() -> None:
     data = Path(args.data)
     clip = str(data / "grid" / f"{args.clip}.mpg")
     portrait_path = data / "london/neutral_front/003_03.jpg"
-    portrait = drive.resize_portrait(load_image(portrait_path), None, SIZE)[0]
+    portrait = resize_portrait(load_image(portrait_path), None, SIZE)[0]
     frames = list(read_frames(clip))
     n = len(frames)
     detector = default_detector()

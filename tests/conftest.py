@@ -18,7 +18,7 @@ import pytest
 
 from exprclone import data as samples
 from exprclone.io.images import load_image
-from exprclone.pipeline import default_detector
+from exprclone.models import default_detector
 
 DATA = Path(os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
 LONDON = DATA / "london"

@@ -14,7 +14,7 @@ from PIL import Image
 
 import exprclone
 from exprclone import data as samples
-from exprclone import pipeline
+from exprclone import models, pipeline
 from exprclone.batch import job, work
 from exprclone.batch.manifest import read_manifest
 from exprclone.io.images import load_image
@@ -154,15 +154,15 @@ def test_each_photo_is_detected_once_and_each_pair_of_faces_prepared_once(tmp_pa
     rows = [("126", "003", f"{k}.png") for k in range(3)] + [("126", "001", f"{k + 3}.png") for k in range(3)]
     path = manifest(tmp_path, rows)
     path.write_text(path.read_text().replace(str(samples.path("126", "smile")), str(copy), 1))
-    detections = Counting(monkeypatch, type(pipeline.default_detector()), "detect")
+    detections = Counting(monkeypatch, type(models.default_detector()), "detect")
     preparations = Counting(monkeypatch, pipeline.Cloner, "__init__")
     outcomes = {}
-    job.run(read_manifest(str(path)), work.Options(method="global"), job.Local(1), outcomes, cache=tmp_path / "cache")
+    job.run(read_manifest(str(path)), work.JobOptions(method="global"), job.Local(1), outcomes, cache=tmp_path / "cache")
     assert [outcomes[k].status for k in range(1, 7)] == ["done"] * 6
     assert detections.calls == 4  # source neutral, its smile (one content, two names), two targets
     assert preparations.calls == 2  # one Cloner per (source neutral, target)
     outcomes = {}
-    job.run(read_manifest(str(path)), work.Options(method="global"), job.Local(1), outcomes, overwrite=True, cache=tmp_path / "cache")
+    job.run(read_manifest(str(path)), work.JobOptions(method="global"), job.Local(1), outcomes, overwrite=True, cache=tmp_path / "cache")
     assert detections.calls == 4  # the cache kept them
 
 

@@ -1,4 +1,5 @@
-"""The code's own rules: short functions, and methods read from their table, never decoded from their names."""
+"""The code's own rules: short functions and modules, one home for the photo roles, and methods read from their table,
+never decoded from their names."""
 
 import ast
 from pathlib import Path
@@ -6,10 +7,13 @@ from pathlib import Path
 import pytest
 
 from exprclone.methods import METHODS
+from exprclone.roles import ROLES
 
 SOURCES = sorted((Path(__file__).resolve().parents[1] / "src" / "exprclone").rglob("*.py"))
 #: the longest function body allowed, in lines of code (docstring, blank lines and comments aside).
 MAX_LINES = 50
+#: the longest module allowed, in lines (all of them: one concept per module).
+MAX_MODULE_LINES = 450
 
 
 def code_lines(function: ast.FunctionDef, lines: list[str]) -> int:
@@ -32,6 +36,27 @@ def functions(path: Path):
 def test_no_function_is_longer_than_fifty_lines(path):
     long = {f.name: n for f, lines in functions(path) if (n := code_lines(f, lines)) > MAX_LINES}
     assert not long, long
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(p.parents[1])))
+def test_no_module_is_longer_than_450_lines(path):
+    lines = len(path.read_text().splitlines())
+    assert lines <= MAX_MODULE_LINES, f"{lines} lines"
+
+
+def role_strings(tree: ast.AST) -> list[int]:
+    """Lines that write a photo's role as a string (``"target_neutral"``) instead of naming it from :mod:`exprclone.roles`."""
+    return sorted(node.lineno for node in ast.walk(tree) if isinstance(node, ast.Constant) and node.value in ROLES)
+
+
+@pytest.mark.parametrize("path", [p for p in SOURCES if p.name != "roles.py"], ids=lambda p: str(p.relative_to(p.parents[1])))
+def test_the_photo_roles_are_written_once(path):
+    """Only roles.py spells the three photos' roles."""
+    assert not role_strings(ast.parse(path.read_text())), path
+
+
+def test_the_roles_rule_sees_a_role_written_out():
+    assert role_strings(ast.parse('names = {"target_neutral": path, f"{role}_landmarks": 1}\n"""target_neutral: a docstring."""')) == [1]
 
 
 def test_the_rule_counts_what_it_should():

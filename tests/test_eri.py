@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 from changes import lit_from_the_side, lock_of_hair
 
-from exprclone import eri, geometry, warp
+from exprclone import eri, geometry, raster, shading, warp
 from exprclone.layout import DLIB68
 
 
@@ -106,10 +106,10 @@ def test_apply_details_is_eq_9_rounded(pair):
 def test_shrink_then_enlarge_keeps_a_smooth_image(shape):
     ys, xs = np.mgrid[: shape[0], : shape[1]].astype(np.float32)
     smooth = np.sin(xs / 15) + np.cos(ys / 11)
-    small = eri.shrink(smooth, 3)
+    small = raster.shrink(smooth, 3)
     assert small.shape == (shape[0] // 3, shape[1] // 3)
     assert np.isclose(small[0, 0], smooth[:3, :3].mean(), atol=1e-5)  # block means
-    back = eri.enlarge(small, shape, 3)
+    back = raster.enlarge(small, shape, 3)
     assert back.shape == shape
     assert np.abs(back - smooth)[3:-3, 3:-3].max() < 0.02  # bilinear error of a curve 11 pixels wide
     assert np.abs(back - smooth).max() < 0.3  # the edge, repeated
@@ -129,7 +129,7 @@ def test_a_light_that_moved_across_the_face_is_not_expression(pair):
     assert np.abs(ratio - 1).max() < 0.01
     # a median ratio of 1 would have left the tilt: +-15% across the face
     trusted = mask > 0.5
-    raw = (eri.luminance(lit) + eri.EPS) / (eri.luminance(target) + eri.EPS)
+    raw = (eri.luminance(lit) + raster.EPS) / (eri.luminance(target) + raster.EPS)
     assert np.percentile(raw[trusted] / np.median(raw[trusted]), [2, 98]) @ [-1, 1] > 0.15
 
 
@@ -157,12 +157,12 @@ def test_moved_is_where_the_expression_moves_the_skin(pair):
     motion = np.zeros(len(mesh.points))
     mouth = list(DLIB68.mouth_outer + DLIB68.mouth_inner)
     motion[mouth] = 0.1  # a smile: only the mouth moves
-    region = eri.moved(target.shape[:2], mesh.points, motion, mesh.triangles, iod)
+    region = shading.moved(target.shape[:2], mesh.points, motion, mesh.triangles, iod)
     at = lambda p: region[int(p[1]), int(p[0])]  # noqa: E731
     assert at(lm[mouth].mean(0)) == 1.0 and at((lm[48] + lm[31]) / 2) > 0.9  # the mouth, the fold beside it
     assert at(lm[27] + (0, -0.5 * iod)) == 0.0 and at(lm[39]) < 0.2  # not the forehead, hardly the eyes
     assert region.min() >= 0 and region.max() <= 1
-    assert not eri.moved(target.shape[:2], mesh.points, 0 * motion, mesh.triangles, iod).any()
+    assert not shading.moved(target.shape[:2], mesh.points, 0 * motion, mesh.triangles, iod).any()
 
 
 def test_colour_tells_a_change_of_material_from_shading(pair):

@@ -17,7 +17,8 @@ from exprclone.errors import ExprCloneError
 from exprclone.io.images import load_image
 from exprclone.io.video import read_frames
 from exprclone.layout import DLIB68
-from exprclone.pipeline import default_detector
+from exprclone.models import default_detector
+from exprclone.options import Options
 from exprclone.server.live import Session, decode_jpeg, encode_jpeg
 
 #: seconds of the session watched (the clip, 3 s, plays in a loop).
@@ -192,7 +193,7 @@ def test_sessions_are_bounded_and_bad_starts_are_refused(live_server):
 
 
 def test_strength_and_regions_reach_a_session_and_can_change_in_it():
-    session = Session(load_image(samples.path("003")), "e+md", True, 0.0, 256, {"strength": 0.0})
+    session = Session(load_image(samples.path("003")), "e+md", True, 0.0, 256, Options(strength=0.0))
     portrait = decode_jpeg(encode_jpeg(session.portrait))
     frames = list(zip(range(40), read_frames(samples.clip())))
     outputs = []
@@ -201,12 +202,12 @@ def test_strength_and_regions_reach_a_session_and_can_change_in_it():
             session.recapture(now=True)
         outputs.append(decode_jpeg(session.process(encode_jpeg(frame), number / 25)[0]))
     assert session.driver is not None and all(np.array_equal(out, portrait) for out in outputs[2:])  # strength 0: the portrait
-    session.options("e+md", True, {"strength": 1.0, "only": ("mouth",)})
+    session.options("e+md", True, Options(strength=1.0, only=("mouth",)))
     moved = [decode_jpeg(session.process(encode_jpeg(frame), number / 25)[0]) for number, frame in frames[30:]]
     assert session.driver.cloner.options.only == ("mouth",)
     assert max(np.abs(out.astype(int) - portrait).max() for out in moved) > 40  # the mouth moves again
     with pytest.raises(ExprCloneError, match="strength"):
-        session.options("e+md", True, {"strength": 3})
+        session.options("e+md", True, Options(strength=3))
 
 
 def test_a_bad_transfer_option_is_refused_at_the_start(live_server):

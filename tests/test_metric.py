@@ -3,7 +3,7 @@ import pytest
 
 from exprclone import elastic, global_warp, local_warp, metric, warp
 from exprclone.layout import DLIB68
-from exprclone.pipeline import default_eigenfaces
+from exprclone.models import default_eigenfaces
 
 
 def test_db_on_the_straight_line_is_smallest_half_way():

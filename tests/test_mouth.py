@@ -6,7 +6,7 @@ import pytest
 from scipy.spatial import Delaunay
 
 import exprclone
-from exprclone import lips, mouth, raster, warp
+from exprclone import lips, mouth, mouth_fill, mouth_tone, raster, warp
 from exprclone.layout import DLIB68
 
 INNER = list(DLIB68.mouth_inner)
@@ -37,7 +37,7 @@ def test_opened_mouth_shows_the_source_teeth(open_pair, photo):
     polygon = polygon_mask(on.image.shape, final[INNER])
     inside = on.mouth_mask > 0.95  # where the paste is whole; the rest is the feathered edge
     # whole wherever the feather (eroded by one sigma, then blurred) cannot reach: four sigmas in
-    sigma = mouth.FEATHER * mouth.mouth_width(final, DLIB68)
+    sigma = mouth_fill.FEATHER * mouth.mouth_width(final, DLIB68)
     core = polygon_mask(on.image.shape, final[INNER], shrink=int(np.ceil(4 * sigma)))
     assert core.any() and (inside | ~core).all() and not (inside & ~polygon).any()
     # there it is the source's interior as it lands there (lips and the opening's centre), tone-matched
@@ -46,8 +46,8 @@ def test_opened_mouth_shows_the_source_teeth(open_pair, photo):
     points = list(DLIB68.mouth_outer + DLIB68.mouth_inner)
     src, dst = (np.vstack([p[points], p[INNER].mean(0)]) for p in (s_exp, final))
     landed = warp.warp(se, src, dst, Delaunay(dst).simplices, on.image.shape[:2]).astype(float)
-    reference = mouth.Reference.measure(tn, lips.uncross(tn_lm, DLIB68), DLIB68, (sn, lips.uncross(sn_lm, DLIB68)))
-    expected = landed[inside].mean(0) * mouth.tone_gain(se, s_exp, reference, DLIB68, landed[polygon])
+    reference = mouth_tone.Reference.measure(tn, lips.uncross(tn_lm, DLIB68), DLIB68, (sn, lips.uncross(sn_lm, DLIB68)))
+    expected = landed[inside].mean(0) * mouth_tone.tone_gain(se, s_exp, reference, DLIB68, landed[polygon])
     pasted = np.abs(on.image[inside].astype(float).mean(0) - expected).mean()
     stretched = np.abs(off.image[inside].astype(float).mean(0) - expected).mean()
     assert stretched > 5 * pasted, (pasted, stretched)  # "far better than the stretched lips"
@@ -74,8 +74,8 @@ def grain_pair(photo):
     source_lm, target_lm = lips.uncross(se_lm, DLIB68), lips.uncross(tn_lm, DLIB68)  # as the pipeline passes them
 
     def fill(degrade):
-        return mouth.fill_interior(
-            degrade(off.image), off.landmarks["final"], se, source_lm, mouth.Reference.measure(degrade(tn), target_lm, DLIB68), DLIB68
+        return mouth_fill.fill_interior(
+            degrade(off.image), off.landmarks["final"], se, source_lm, mouth_tone.Reference.measure(degrade(tn), target_lm, DLIB68), DLIB68
         )
 
     sharp, weight = fill(lambda im: im)
@@ -154,8 +154,8 @@ def test_a_squinting_source_has_its_eye_whites_read_on_its_neutral_photo(photo):
     # her smile onto her own neutral photo: the right gain is the change of exposure
     # between the two, which the studio wall in the corner shows (the smile is 6% darker)
     wall = sn[10:110, 10:110].reshape(-1, 3).mean(0) / se[10:110, 10:110].reshape(-1, 3).mean(0)
-    squinting = mouth.tone_gain(se, se_lm, mouth.Reference.measure(sn, sn_lm, DLIB68), DLIB68)
-    read_open = mouth.tone_gain(se, se_lm, mouth.Reference.measure(sn, sn_lm, DLIB68, (sn, sn_lm)), DLIB68)
+    squinting = mouth_tone.tone_gain(se, se_lm, mouth_tone.Reference.measure(sn, sn_lm, DLIB68), DLIB68)
+    read_open = mouth_tone.tone_gain(se, se_lm, mouth_tone.Reference.measure(sn, sn_lm, DLIB68, (sn, sn_lm)), DLIB68)
     # read on the squint, the teeth glare: the squinting eyes weigh less than open ones
     # and her skin is a second cue, but the gain is still 40% too strong or more
     assert np.abs(np.log(squinting / wall)).min() > 0.3, squinting
@@ -177,14 +177,14 @@ def test_teeth_fade_out_as_the_source_shows_less(open_pair):
     cv2.fillPoly(outer, [np.round(se_lm[list(DLIB68.mouth_outer)]).astype(np.int32)], 1)
     lip_colour = np.median(se[(outer > 0) & (inner == 0)], axis=0)
     left, right = se_lm[INNER, 0].min(), se_lm[INNER, 0].max()
-    reference = mouth.Reference.measure(tn, tn_lm, DLIB68)
+    reference = mouth_tone.Reference.measure(tn, tn_lm, DLIB68)
     amounts, shown = [], []
     for edge in np.linspace(left, right, 61):
         covered = se.copy()
         covered[(inner > 0) & (np.arange(se.shape[1]) < edge)[None, :]] = lip_colour
         teeth, cavity = mouth.interior(covered, lips.uncross(se_lm, DLIB68), DLIB68)
         shown.append((teeth.sum() + cavity.sum()) / mouth.mouth_width(se_lm, DLIB68) ** 2)
-        _, mask = mouth.fill_interior(on.image, on.landmarks["final"], covered, se_lm, reference, DLIB68)
+        _, mask = mouth_fill.fill_interior(on.image, on.landmarks["final"], covered, se_lm, reference, DLIB68)
         amounts.append(0.0 if mask is None else float(mask.sum()))
     amounts, shown = np.array(amounts), np.array(shown)
     assert shown[0] > mouth.INTERIOR[1] and amounts[-1] == 0  # from all teeth to none

@@ -6,7 +6,7 @@ import pytest
 import exprclone
 from exprclone import elastic, geometry, global_warp, lips, local_warp, warp
 from exprclone.layout import DLIB68
-from exprclone.pipeline import default_detector
+from exprclone.models import default_detector
 
 MOUTH = list(DLIB68.mouth_outer)
 
@@ -196,8 +196,8 @@ def test_bad_options_raise_the_project_error(pair, options, subject, problem):
 
 
 def test_the_registries_hold_every_option_value():
-    from exprclone import options, pipeline
+    from exprclone import options, stages
 
-    assert set(pipeline.GLOBAL_WARPS) == {*options.GLOBAL_WARPS, options.GIVEN}
-    assert set(pipeline.IMAGE_WARPS) == set(options.IMAGE_WARPS)
+    assert set(stages.GLOBAL_WARPERS) == set(options.GLOBAL_WARPS)
+    assert set(stages.IMAGE_WARPERS) == set(options.IMAGE_WARPS)
     assert options.REGIONS == tuple(DLIB68.regions)

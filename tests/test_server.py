@@ -16,7 +16,7 @@ from PIL import Image
 from server import Server
 
 import exprclone
-import exprclone.pipeline
+import exprclone.models
 from exprclone import data as samples
 from exprclone.io.images import load_image
 from exprclone.io.landmarks import read_landmarks, write_landmarks
@@ -277,7 +277,7 @@ def test_ctrl_c_stops_the_server_and_removes_its_temporary_files():
 @pytest.fixture(scope="module")
 def sample_images():
     images = [load_image(p) for p in PHOTOS.values()]
-    return images, [exprclone.pipeline.default_detector().detect(im) for im in images]
+    return images, [exprclone.models.default_detector().detect(im) for im in images]
 
 
 def test_clone_with_the_transfer_options_answers_the_python_apis_image(client, sample_images):

@@ -6,7 +6,7 @@ from scipy.interpolate import RBFInterpolator
 
 from exprclone import tps, warp
 from exprclone.layout import DLIB68
-from exprclone.pipeline import tps_refine
+from exprclone.stages import tps_refine
 
 
 def smile_control(pair):

@@ -5,7 +5,7 @@ from exprclone import mouth, tracking
 from exprclone.errors import ExprCloneError
 from exprclone.io.video import read_frames
 from exprclone.layout import DLIB68
-from exprclone.pipeline import default_detector
+from exprclone.models import default_detector
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,8 @@ import pytest
 from conftest import GRID_CLIPS, need_full_data, neutral_path
 
 from exprclone import data as samples
-from exprclone import drive, mouth, pipeline, tracking
+from exprclone import drive, models, mouth, pipeline, tracking
+from exprclone.io.frames import resize_portrait
 from exprclone.io.images import load_image
 from exprclone.io.video import probe, read_frames
 from exprclone.layout import DLIB68
@@ -36,7 +37,7 @@ def prepare(portrait, clip, **options) -> drive.Recording:
 
 @pytest.fixture(scope="module")
 def portrait(london):
-    return drive.resize_portrait(load_image(PORTRAIT), None, 256)[0]
+    return resize_portrait(load_image(PORTRAIT), None, 256)[0]
 
 
 @pytest.fixture(scope="module")
@@ -51,7 +52,7 @@ def driven(portrait, grid_clip):
 
 def raw_landmarks(clip):
     """The driver's landmarks as the detector finds them afresh on every frame (None: no face)."""
-    detector = pipeline.default_detector()
+    detector = models.default_detector()
     return [detector.fit(f, b[0]) if (b := detector.faces(f)) else None for f in read_frames(clip)]
 
 
@@ -107,7 +108,7 @@ def test_neutral_photo_of_the_source(portrait, grid_clip):
     frame = next(f for i, f in enumerate(read_frames(grid_clip)) if i == 3)
     recording = prepare(portrait, grid_clip, source_neutral=(frame, None), method="global")
     assert recording.neutral_index is None and recording.driver.lambda_k is None
-    photo_points = pipeline.default_detector().detect(frame)
+    photo_points = models.default_detector().detect(frame)
     same = recording.driver.render(frame, photo_points).image
     assert np.abs(same.astype(int) - portrait).max() <= 1
     moved = [f.image for f in recording.frames(read_frames(grid_clip))]
@@ -117,7 +118,7 @@ def test_neutral_photo_of_the_source(portrait, grid_clip):
 def test_frames_from_a_stream_that_cannot_be_read_twice(driven, grid_clip):
     """A live source (a webcam, a socket) is read once: the driver renders any iterator of frames with their landmarks."""
     recording, frames = driven[True]
-    tracker = tracking.Tracker(pipeline.default_detector())
+    tracker = tracking.Tracker(models.default_detector())
     stream = ((frame, tracker.update(frame)) for frame in read_frames(grid_clip))  # one pass, landmarks as they come
     live = [recording.driver.render(frame, points, i) for i, (frame, points) in enumerate(stream) if points is not None]
     assert len(live) == 75 and all(f.image.shape == frames[0].image.shape for f in live)

@@ -45,8 +45,8 @@ the :data:`STRIP_ROWS` most open mouths of each ``CLIP:PORTRAIT`` pair, mouth cr
 the driving frame, of the output of ``REV`` (with ``--ref``) and of the output of the
 working tree, side by side: a before/after figure.
 
-exprclone is imported inside the functions: with ``--ref`` the tool runs on an older
-tree, which lacks the newer modules.
+exprclone is imported inside the functions, so that ``--ref`` imports the tree it names
+(one with the package's present layout: ``exprclone.io``, ``exprclone.drive``).
 """
 
 from __future__ import annotations
@@ -133,36 +133,27 @@ def relation(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
 
 
 def load_image(path):
-    """exprclone's image reader, wherever this version of the code keeps it."""
-    try:
-        from exprclone.io.images import load_image as load
-    except ImportError:  # before the io/ subpackage
-        from exprclone.images import load_image as load
+    """exprclone's image reader."""
+    from exprclone.io.images import load_image as load
+
     return load(path)
 
 
 def driven(portrait: np.ndarray, portrait_points: np.ndarray | None, clip: Path):
-    """The portrait driven by a clip (neutral frame: the most closed mouth): ``(points, frames)``, whatever the code's version.
+    """The portrait driven by a clip (neutral frame: the most closed mouth): ``(points, frames)``.
 
     ``frames`` yields objects with ``index``, ``driving``, ``image`` and ``result``.
     """
-    try:
-        from exprclone import drive
-        from exprclone.io.video import probe, read_frames
-    except ImportError:  # before drive.py: video.Driver read the file itself
-        from exprclone import video
+    from exprclone import drive
+    from exprclone.io.video import probe, read_frames
 
-        driver = video.Driver(portrait, portrait_points, str(clip), neutral_frame="closed")
-        return driver.points, driver.frames()
     recording = drive.prepare(portrait, portrait_points, lambda: read_frames(clip), float(probe(clip).fps), neutral_frame="closed")
     return recording.points, recording.frames(read_frames(clip))
 
 
 def resize_portrait(image: np.ndarray, size: int) -> np.ndarray:
-    try:
-        from exprclone.drive import resize_portrait as resize
-    except ImportError:
-        from exprclone.video import resize_portrait as resize
+    from exprclone.io.frames import resize_portrait as resize
+
     return resize(image, None, size)[0]
 
 
@@ -246,8 +237,8 @@ def stills(data: Path, wanted: int, cast: np.ndarray | None = None) -> dict:
     """
     import exprclone
     from exprclone.layout import DLIB68
+    from exprclone.models import default_detector
     from exprclone.mouth import interior, mouth_width
-    from exprclone.pipeline import default_detector
 
     london = data / "london"
     ids = sorted(p.name[:3] for p in (london / "neutral_front").glob("*_03.jpg"))
@@ -303,7 +294,7 @@ def spread(data: Path) -> None:
     """Print the standard deviation over the London neutral photos of each cue's log brightness and log colour."""
     from exprclone import illuminant
     from exprclone.layout import DLIB68
-    from exprclone.pipeline import default_detector
+    from exprclone.models import default_detector
 
     detector, colours = default_detector(), []
     for path in sorted((data / "london" / "neutral_front").glob("*_03.jpg")):
@@ -384,7 +375,7 @@ def main() -> int:
     if args.spread:
         spread(args.data)
         return 0
-    from exprclone.pipeline import default_detector
+    from exprclone.models import default_detector
 
     clips = [args.data / "grid" / f"{c}.mpg" for c in args.clips] if args.clips else sorted((args.data / "grid").glob("*.mpg"))
     detector, rows = default_detector(), []

@@ -18,7 +18,7 @@ import numpy as np
 from exprclone import mouth, tracking
 from exprclone.io.video import probe, read_frames
 from exprclone.layout import DLIB68
-from exprclone.pipeline import default_detector
+from exprclone.models import default_detector
 
 MOUTH = DLIB68.mouth_outer + DLIB68.mouth_inner
 

@@ -26,8 +26,8 @@ from test_live import write_y4m  # noqa: E402
 
 from exprclone import data as samples  # noqa: E402
 from exprclone.layout import DLIB68  # noqa: E402
+from exprclone.models import default_detector  # noqa: E402
 from exprclone.mouth import opening  # noqa: E402
-from exprclone.pipeline import default_detector  # noqa: E402
 from exprclone.server.live import decode_jpeg  # noqa: E402
 
 SIZE = 256

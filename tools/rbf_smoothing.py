@@ -24,7 +24,7 @@ from exprclone import geometry, global_warp, lips
 from exprclone.evaluation.london import Dataset
 from exprclone.io.images import load_image
 from exprclone.layout import DLIB68
-from exprclone.pipeline import default_detector
+from exprclone.models import default_detector
 
 
 def normalised(points: np.ndarray) -> np.ndarray:

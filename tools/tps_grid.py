@@ -24,7 +24,9 @@ from scipy.interpolate import RBFInterpolator
 from exprclone import clone, tps, warp
 from exprclone.evaluation.london import Dataset
 from exprclone.io.images import load_image
-from exprclone.pipeline import Cloner, default_detector, tps_refine
+from exprclone.models import default_detector
+from exprclone.pipeline import Cloner
+from exprclone.stages import tps_refine
 
 
 def control_points(data: Dataset, a: str, b: str):

@@ -19,10 +19,11 @@ from pathlib import Path
 import numpy as np
 
 from exprclone import drive, mouth, tracking
+from exprclone.io.frames import resize_portrait
 from exprclone.io.images import load_image
 from exprclone.io.video import probe, read_frames
 from exprclone.layout import DLIB68
-from exprclone.pipeline import default_detector
+from exprclone.models import default_detector
 
 MOUTH = DLIB68.mouth_outer + DLIB68.mouth_inner
 
@@ -39,7 +40,7 @@ def main() -> None:
     parser.add_argument("--neutral-frame", default=None, help="a frame number, or closed (default: the first frame with a face)")
     args = parser.parse_args()
     data = Path(args.data)
-    portrait = drive.resize_portrait(load_image(data / "london/neutral_front" / f"{args.portrait}_03.jpg"), None, args.size)[0]
+    portrait = resize_portrait(load_image(data / "london/neutral_front" / f"{args.portrait}_03.jpg"), None, args.size)[0]
     detector = default_detector()
     print(
         "clip | jitter smoothed | jitter raw | ratio | opening correlation, driver vs output | frames without a face | lambda_k | neutral"

@@ -15,7 +15,7 @@ __all__ = ["METHODS", "CloneResult", "ExprCloneError", "ExprCloneWarning", "clon
 __version__ = "0.1.0"
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> object:
     """The pipeline (numpy, OpenCV, SciPy) is imported on first use, not with the package."""
     if name in ("clone", "clone_methods", "CloneResult"):
         from . import pipeline

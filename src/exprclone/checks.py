@@ -7,6 +7,10 @@ worded the same way everywhere.
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Mapping
+from typing import Any
+
 import numpy as np
 
 from .errors import ExprCloneError
@@ -74,41 +78,95 @@ def check_points(points: np.ndarray, image_shape: tuple[int, ...], n_points: int
     return points
 
 
-def check_options(options: dict, n_points: int, target_shape: tuple[int, ...], regions: tuple[str, ...]) -> Options:
-    """The keyword options of a clone (:class:`exprclone.options.Options`), or ExprCloneError about the first bad one.
+def parse_lambda(value: float | str) -> float | str:
+    """lambda_k as a command line, a form or a manifest gives it: ``"auto"`` or a number >= 0, as a number or as text
+    (:func:`check_lambda`), else ExprCloneError about ``lambda``.
+
+    Examples
+    --------
+    >>> parse_lambda("auto"), parse_lambda("0.5"), parse_lambda("inf"), parse_lambda(2)
+    ('auto', 0.5, inf, 2)
+    """
+    if isinstance(value, str) and value != "auto":
+        try:
+            value = float(value)
+        except ValueError:
+            raise ExprCloneError("lambda", f"must be 'auto' or a number >= 0, got {value!r}") from None
+    return check_lambda(value)
+
+
+def options_from(options: Options | None, keywords: Mapping[str, Any]) -> Options:
+    """The :class:`~exprclone.options.Options` of a call: ``options``, or the same given as keywords (``strength=0.5``).
+
+    Raises
+    ------
+    ExprCloneError
+        About a keyword that is not an option, or given beside ``options``.
+    """
+    names = [f.name for f in dataclasses.fields(Options)]
+    unknown = sorted(set(keywords) - set(names))
+    if unknown:
+        raise ExprCloneError(unknown[0], f"not an option; choose from {', '.join(names)}")
+    if options is None:
+        return Options(**keywords)
+    if keywords:
+        raise ExprCloneError(sorted(keywords)[0], "given twice: as a keyword and in options")
+    return options
+
+
+def check_choices(options: Options, regions: tuple[str, ...]) -> Options:
+    """The options that need no photo (warps, strength, regions, retargeting) checked, or ExprCloneError about the
+    first bad one; ``global_landmarks`` is left as it is (:func:`check_options` checks it against a target photo).
 
     Parameters
     ----------
-    options : dict
-        Any of ``global_warp``, ``global_landmarks``, ``image_warp``, ``strength``, ``only``
-        (a tuple of region names, or one comma-separated string), ``retarget`` (a bool).
-    n_points : int
-        Landmarks per face (for ``global_landmarks``).
-    target_shape : tuple of int
-        The target photo's shape: ``global_landmarks`` must lie inside it.
+    options : Options
+        ``only`` may also be one comma-separated string of region names.
     regions : tuple of str
         The regions ``only`` may name (:attr:`exprclone.layout.Layout.regions`).
 
     Returns
     -------
     Options
+        With ``strength`` a float, ``only`` a tuple of region names or None, ``retarget`` a bool.
     """
-    unknown = sorted(set(options) - set(Options.__dataclass_fields__))
-    if unknown:
-        raise ExprCloneError(unknown[0], f"not an option; choose from {', '.join(Options.__dataclass_fields__)}")
-    o = Options(**options)
+    o = options
     for subject, value, allowed in (("global_warp", o.global_warp, GLOBAL_WARPS), ("image_warp", o.image_warp, IMAGE_WARPS)):
         if value not in allowed:
             raise ExprCloneError(subject, f"unknown {subject.replace('_', ' ')} {value!r}; choose one of: {', '.join(allowed)}")
-    given = None if o.global_landmarks is None else check_points(o.global_landmarks, target_shape, n_points, "global_landmarks")
-    if given is not None and o.global_warp != GLOBAL_WARPS[0]:
-        raise ExprCloneError("global_landmarks", f"given landmarks replace the global warp; drop global_warp={o.global_warp!r}")
     low, high = STRENGTH_RANGE
     if isinstance(o.strength, bool) or not isinstance(o.strength, (int, float)) or not low <= o.strength <= high:
         raise ExprCloneError("strength", f"must be a number from {low:g} to {high:g}, got {o.strength!r}")
     if not isinstance(o.retarget, (bool, np.bool_)):
         raise ExprCloneError("retarget", f"must be True or False, got {o.retarget!r}")
-    return Options(o.global_warp, given, o.image_warp, float(o.strength), check_regions(o.only, regions), bool(o.retarget))
+    return dataclasses.replace(o, strength=float(o.strength), only=check_regions(o.only, regions), retarget=bool(o.retarget))
+
+
+def check_options(options: Options, n_points: int, target_shape: tuple[int, ...], regions: tuple[str, ...]) -> Options:
+    """The options of a clone onto a target photo of ``target_shape`` (:func:`check_choices`, and ``global_landmarks``
+    inside that photo), or ExprCloneError about the first bad one.
+
+    Parameters
+    ----------
+    options : Options
+    n_points : int
+        Landmarks per face (for ``global_landmarks``).
+    target_shape : tuple of int
+        The target photo's shape: ``global_landmarks`` must lie inside it.
+    regions : tuple of str
+        As for :func:`check_choices`.
+
+    Returns
+    -------
+    Options
+    """
+    checked = check_choices(options, regions)
+    if checked.global_landmarks is None:
+        return checked
+    given = check_points(checked.global_landmarks, target_shape, n_points, "global_landmarks")
+    if checked.global_warp != GLOBAL_WARPS[0]:
+        raise ExprCloneError("global_landmarks", f"given landmarks replace the global warp; drop global_warp={checked.global_warp!r}")
+    return dataclasses.replace(checked, global_landmarks=given)
 
 
 def check_regions(only: tuple[str, ...] | str | None, regions: tuple[str, ...]) -> tuple[str, ...] | None:

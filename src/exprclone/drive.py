@@ -26,25 +26,27 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import cv2
 import numpy as np
 
 from . import geometry, global_warp, mouth, tracking
-from .checks import check_image, check_lambda, check_options
+from .checks import check_image, check_lambda, check_options, options_from
+from .cloner import Cloner, CloneResult
 from .eigenface import Eigenfaces
 from .errors import ExprCloneError, NoFaceError
 from .landmarks import Detector
 from .layout import DLIB68, Layout
 from .methods import lookup
-from .pipeline import Cloner, CloneResult, default_detector
+from .models import default_detector
+from .options import Options
+from .roles import SOURCE_NEUTRAL, TARGET_NEUTRAL
 
 #: frames on which the DB metric chooses lambda_k for the whole video.
 LAMBDA_FRAMES = 5
 #: the frames that choose lambda_k are at least this many seconds apart.
 LAMBDA_SPACING = 0.5
-#: the keyword options of :func:`prepare` that go to the :class:`Driver`; the others go to the :class:`Cloner`.
-DRIVER_OPTIONS = ("head_motion", "mouth")
 
 
 @dataclass
@@ -67,23 +69,6 @@ class DrivenFrame:
     driving: np.ndarray
     result: CloneResult
     image: np.ndarray
-
-
-def resize_portrait(image: np.ndarray, points: np.ndarray | None, size: int | None) -> tuple[np.ndarray, np.ndarray | None]:
-    """The portrait (and its landmarks) scaled so that its longest side is ``size`` pixels."""
-    if size is None or size == max(image.shape[:2]):
-        return image, points
-    scale = size / max(image.shape[:2])
-    shape = (max(1, round(image.shape[1] * scale)), max(1, round(image.shape[0] * scale)))
-    resized = cv2.resize(image, shape, interpolation=cv2.INTER_AREA if scale < 1 else cv2.INTER_CUBIC)
-    return resized, None if points is None else points * (np.array(shape) / image.shape[1::-1])
-
-
-def side_by_side(driving: np.ndarray, result: np.ndarray) -> np.ndarray:
-    """``driving | result``, the driving frame scaled to the result's height."""
-    height = result.shape[0]
-    width = max(1, round(driving.shape[1] * height / driving.shape[0]))
-    return np.hstack([cv2.resize(driving, (width, height), interpolation=cv2.INTER_LINEAR), result])
 
 
 def expression_strength(neutral: np.ndarray, points: np.ndarray, layout: Layout) -> np.ndarray:
@@ -162,7 +147,9 @@ class Driver:
         None for methods without the elastic model.
     """
 
-    def __init__(self, cloner: Cloner, method: str = "e+md", lambda_k: float | str = "auto", *, head_motion=False, mouth=True) -> None:
+    def __init__(
+        self, cloner: Cloner, method: str = "e+md", lambda_k: float | str = "auto", *, head_motion: bool = False, mouth: bool = True
+    ) -> None:
         self.cloner, self.mouth, self.head_motion = cloner, mouth, head_motion
         self.method = lookup((method,))[0]
         self.lambda_k = check_lambda(lambda_k) if self.method.uses_lambda else None
@@ -178,7 +165,7 @@ class Driver:
             image = cv2.warpAffine(image, self._head_motion(points), (w, h), flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
         return DrivenFrame(index, frame, result, image)
 
-    def frames(self, frames: Iterable[np.ndarray], points: Sequence[np.ndarray]) -> Iterator[DrivenFrame]:
+    def frames(self, frames: Iterable[np.ndarray], points: Sequence[np.ndarray] | np.ndarray) -> Iterator[DrivenFrame]:
         """Render frames in order, frame ``i`` with ``points[i]``; stops at the shorter of the two."""
         for i, (frame, p) in enumerate(zip(frames, points)):
             yield self.render(frame, p, i)
@@ -198,14 +185,18 @@ def neutral_index(track: tracking.Track, points: np.ndarray, neutral_frame: int 
     """The frame that shows the source's neutral face: ``neutral_frame`` (a number, or "closed" for
     :func:`closed_mouth_frame`), by default the first frame with a face; ExprCloneError about ``name``."""
     if neutral_frame is None:
-        neutral_frame = int(np.argmax(track.found))
+        index = int(np.argmax(track.found))
     elif neutral_frame == "closed":
-        neutral_frame = closed_mouth_frame(points, track.found, layout)
-    if not 0 <= neutral_frame < len(points):
-        raise ExprCloneError(name, f"no frame {neutral_frame} (it has {len(points)} frames, numbered from 0)")
-    if not track.found[neutral_frame]:
-        raise NoFaceError(name, f"no face found in frame {neutral_frame}, which was to be the neutral face")
-    return neutral_frame
+        index = closed_mouth_frame(points, track.found, layout)
+    elif isinstance(neutral_frame, int):
+        index = neutral_frame
+    else:
+        raise ExprCloneError(name, f"the neutral frame must be a frame number or 'closed', got {neutral_frame!r}")
+    if not 0 <= index < len(points):
+        raise ExprCloneError(name, f"no frame {index} (it has {len(points)} frames, numbered from 0)")
+    if not track.found[index]:
+        raise NoFaceError(name, f"no face found in frame {index}, which was to be the neutral face")
+    return index
 
 
 def frames_at(frames: Iterable[np.ndarray], indices: list[int]) -> list[np.ndarray]:
@@ -264,7 +255,10 @@ def prepare(
     eigenfaces: Eigenfaces | None = None,
     layout: Layout = DLIB68,
     name: str = "driving_video",
-    **options,
+    head_motion: bool = False,
+    mouth: bool = True,
+    options: Options | None = None,
+    **keywords: Any,
 ) -> Recording:
     """Prepare a recorded performance to drive the ``target`` portrait.
 
@@ -291,22 +285,24 @@ def prepare(
         As for :func:`exprclone.pipeline.clone_methods`.
     name : str
         What the performance is, for errors (a role, or the caller's file name).
-    **options
-        ``head_motion``, ``mouth``: as for :class:`Driver`; ``global_warp``,
-        ``image_warp``, ``strength``, ``only``, ``retarget``: as for :class:`Cloner` (the options of
-        :class:`exprclone.options.Options`), for every frame.
+    head_motion, mouth : bool
+        As for :class:`Driver`.
+    options : Options, optional
+        How every frame is cloned (:class:`exprclone.options.Options`); the defaults if None.
+    **keywords
+        The same options as keywords (``strength=0.5``), instead of ``options``.
     """
     elastic = lookup((method,))[0].uses_lambda
     check_lambda(lambda_k)
-    target = check_image(target, "target_neutral")
-    check_options({k: v for k, v in options.items() if k not in DRIVER_OPTIONS}, layout.n_points, target.shape, tuple(layout.regions))
+    target = check_image(target, TARGET_NEUTRAL)
+    asked = check_options(options_from(options, keywords), layout.n_points, target.shape, tuple(layout.regions))
     detector = detector or default_detector()
     track = tracking.track(open_frames(), detector, name)
     points = tracking.smooth(track.points, fps) if smooth else track.points
     index = None
     if source_neutral is not None:
-        neutral_image = check_image(source_neutral[0], "source_neutral")
-        neutral_points = detector.detect(neutral_image, "source_neutral") if source_neutral[1] is None else source_neutral[1]
+        neutral_image = check_image(source_neutral[0], SOURCE_NEUTRAL)
+        neutral_points = detector.detect(neutral_image, SOURCE_NEUTRAL) if source_neutral[1] is None else source_neutral[1]
     else:
         index = neutral_index(track, points, neutral_frame, layout, name)
         neutral_points = points[index]
@@ -317,9 +313,8 @@ def prepare(
     fetched = frames_at(open_frames(), ([] if index is None else [index]) + chosen)
     if index is not None:
         neutral_image = fetched.pop(0)
-    target_points = detector.detect(target, "target_neutral") if target_points is None else target_points
-    driver_options = {k: options.pop(k) for k in DRIVER_OPTIONS if k in options}
-    cloner = Cloner(neutral_image, neutral_points, target, target_points, eigenfaces=eigenfaces, layout=layout, **options)
+    target_points = detector.detect(target, TARGET_NEUTRAL) if target_points is None else target_points
+    cloner = Cloner(neutral_image, neutral_points, target, target_points, eigenfaces=eigenfaces, layout=layout, options=asked)
     if chosen:
         lambda_k = choose_lambda(cloner, fetched, [points[i] for i in chosen])
-    return Recording(Driver(cloner, method, lambda_k, **driver_options), track, points, index, chosen)
+    return Recording(Driver(cloner, method, lambda_k, head_motion=head_motion, mouth=mouth), track, points, index, chosen)

@@ -12,7 +12,7 @@ on the 144 photos (neutral and smiling) of the Face Research Lab London Set
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from importlib import resources
 
@@ -85,7 +85,7 @@ class Eigenfaces:
     size: int
 
     @classmethod
-    def fit(cls, crops: np.ndarray, people: np.ndarray | None = None, n_components: int = 16) -> "Eigenfaces":
+    def fit(cls, crops: np.ndarray, people: Sequence[str] | np.ndarray | None = None, n_components: int = 16) -> "Eigenfaces":
         """PCA of ``(n, S, S)`` crops, keeping ``n_components`` axes.
 
         The paper trains on "images with different expressions of one person", so that

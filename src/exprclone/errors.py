@@ -1,13 +1,14 @@
 """The one exception type (and warning type) a user of exprclone can cause."""
 
 import contextlib
+import os
 from collections.abc import Iterator
 
 
 class ExprCloneError(ValueError):
     """Bad input: which input (``subject``) and what is wrong with it (``problem``).
 
-    The core names inputs by their role (``"target_neutral"``, ``"method"``) and the
+    The core names inputs by their role (:data:`exprclone.roles.ROLES`, ``"method"``) and the
     outer layers by what the user gave (a file path, a form field); :meth:`about`
     re-words one into the other. The command line prints ``subject: problem`` on one
     line, the server answers it as JSON with status 400 or 422, and a batch report
@@ -15,12 +16,12 @@ class ExprCloneError(ValueError):
 
     Examples
     --------
-    >>> e = ExprCloneError("target_neutral", "no face found")
-    >>> str(e), str(e.about({"target_neutral": "b.jpg"}))
-    ('target_neutral: no face found', 'b.jpg: no face found')
+    >>> e = ExprCloneError("portrait", "no face found")
+    >>> str(e), str(e.about({"portrait": "b.jpg"}))
+    ('portrait: no face found', 'b.jpg: no face found')
     """
 
-    def __init__(self, subject: str, problem: str) -> None:
+    def __init__(self, subject: str | os.PathLike[str], problem: str) -> None:
         super().__init__(f"{subject}: {problem}")
         self.subject, self.problem = str(subject), problem
 
@@ -28,7 +29,7 @@ class ExprCloneError(ValueError):
         """The same problem, of the same type, with the subject re-named by ``names`` (unchanged if not in it)."""
         return type(self)(names.get(self.subject, self.subject), self.problem)
 
-    def __reduce__(self):
+    def __reduce__(self) -> tuple[type["ExprCloneError"], tuple[str, str]]:
         """Pickled as its subject and problem, so it crosses into and out of worker processes whole."""
         return type(self), (self.subject, self.problem)
 

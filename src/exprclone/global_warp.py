@@ -15,6 +15,8 @@ corresponding feature positions in the source person's face" (Sec. II). Two ways
 
 from __future__ import annotations
 
+from typing import Final
+
 import numpy as np
 from scipy.interpolate import RBFInterpolator
 
@@ -26,7 +28,7 @@ from .layout import Layout
 #: reproduces an affine correspondence exactly (so a target that is the source scaled
 #: and rotated gets the similarity transfer), and of all maps through the points it
 #: bends least (Bookstein 1989).
-RBF_KERNEL = "thin_plate_spline"
+RBF_KERNEL: Final = "thin_plate_spline"
 #: the RBF map's smoothing, coordinates in inter-ocular distances. Exact interpolation
 #: is impossible (uncrossed inner lips of a closed mouth coincide), and near it the
 #: Jacobian at the inner lips stretches a motion 5 times or squashes it 20 times

@@ -11,6 +11,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import warnings
+from typing import Any
 
 import cv2
 import numpy as np
@@ -36,9 +37,10 @@ class Detector:
     """Face detector plus 68-point shape predictor, loaded lazily on first use."""
 
     def __init__(self) -> None:
-        self._dlib = None
-        self._detector = None
-        self._predictor = None
+        # dlib's module, face detector and shape predictor, loaded by _load (dlib has no type information)
+        self._dlib: Any = None
+        self._detector: Any = None
+        self._predictor: Any = None
 
     def _load(self) -> None:
         import dlib  # heavy import, only when landmarks are really detected

@@ -65,8 +65,8 @@ def local_landmarks(global_pts: np.ndarray, source_expression: np.ndarray, layou
     axes_t = geometry.face_axes(global_pts, layout)
     axes_s = geometry.face_axes(source_expression, layout)
     out = global_pts.copy()
-    for idx in layout.organs.values():
-        idx = list(idx)
+    for organ in layout.organs.values():
+        idx = list(organ)
         t = global_pts[idx] @ axes_t.T
         s = source_expression[idx] @ axes_s.T
         out[idx] = reshape_organ(t, s) @ axes_t

@@ -22,7 +22,7 @@ before the global and local stages:
 
 Both run before the global warp, whichever it is (the paper's similarity or the RBF
 transfer), and both are on by default (:attr:`exprclone.options.Options.retarget`; off,
-the stages are the paper's). On the README's 300 London Set pairs (``exprclone evaluate``, the
+the stages are the paper's). On 300 London Set pairs (``exprclone evaluate``, the
 default against ``--retargets off``, pair by pair, the ERI's gate on in both) they bring the landmarks
 closer to the target's real smile and the result closer to the target: for global warping
 the mouth error by 0.0010 ± 0.0002 and the identity distance by 0.028 ± 0.002; for local
@@ -147,8 +147,8 @@ def organ_reference(source_neutral: np.ndarray, source_expression: np.ndarray, t
     """
     axes_s, axes_t = geometry.face_axes(source_neutral, layout), geometry.face_axes(target_neutral, layout)
     out = np.array(target_neutral, float)
-    for idx in layout.organs.values():
-        idx = list(idx)
+    for organ in layout.organs.values():
+        idx = list(organ)
         neutral, moved, target = (
             p[idx] @ a.T for p, a in ((source_neutral, axes_s), (source_expression, axes_s), (target_neutral, axes_t))
         )

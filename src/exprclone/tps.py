@@ -19,7 +19,7 @@ every pixel.
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 
 import cv2
@@ -64,7 +64,8 @@ def merged(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         close = np.flatnonzero(np.linalg.norm(dst - dst[i], axis=1) < MERGE_DISTANCE)
         label[close] = label[close].min()
     groups = np.unique(label)
-    return (np.array([a[label == g].mean(axis=0) for g in groups]) for a in (src, dst))
+    src_means, dst_means = (np.array([a[label == g].mean(axis=0) for g in groups]) for a in (src, dst))
+    return src_means, dst_means
 
 
 @dataclass(frozen=True)
@@ -92,7 +93,7 @@ class Grid:
     nodes: np.ndarray
 
     @classmethod
-    def evaluate(cls, spline, box: tuple[slice, slice], step: int) -> "Grid":
+    def evaluate(cls, spline: Callable[[np.ndarray], np.ndarray], box: tuple[slice, slice], step: int) -> "Grid":
         """The spline (points ``(K, 2)`` to displacements ``(K, 2)``) on the nodes of ``box`` (rows, columns)."""
         rows, cols = box
         h, w = rows.stop - rows.start, cols.stop - cols.start
@@ -159,7 +160,8 @@ class Spline:
         dx, dy = p[:, 0, None] - self.centres[:, 0], p[:, 1, None] - self.centres[:, 1]
         # OpenCV's product, not numpy's: OpenBLAS's threads wait long for a busy CPU (ten times a product's work)
         return (
-            cv2.gemm(kernel(dx * dx + dy * dy), self.weights, 1.0, None, 0.0)
+            # OpenCV's stubs refuse None for src3, which the C++ API takes as noArray() (no third term)
+            cv2.gemm(kernel(dx * dx + dy * dy), self.weights, 1.0, None, 0.0)  # type: ignore[call-overload]
             + p[:, :1] * self.affine[1]
             + p[:, 1:] * self.affine[2]
             + self.affine[0]
@@ -220,7 +222,8 @@ def strip_maps(
             if top < bottom:
                 shift[top - y0 : bottom - y0, g.left : g.left + g.size[1]] = g.rows(top, bottom)
         cv2.add(shift[:n], pixel_grid(n, w), dst=shift[:n])
-        cv2.add(shift[:n], (0.0, float(y0), 0.0, 0.0), dst=shift[:n])
+        # a scalar (per channel), which OpenCV's stubs do not admit beside an array
+        cv2.add(shift[:n], (0.0, float(y0), 0.0, 0.0), dst=shift[:n])  # type: ignore[call-overload]
         yield rows, shift[:n]
 
 
@@ -274,5 +277,6 @@ def warp(
     out_shape = tuple(image.shape[:2] if out_shape is None else out_shape)
     out = np.empty(out_shape + image.shape[2:], image.dtype)
     for rows, strip in strip_maps(src, dst, out_shape, refine):
-        cv2.remap(image, strip, None, cv2.INTER_LINEAR, dst=out[rows], borderMode=cv2.BORDER_REPLICATE)
+        # map2 None: the one map holds x and y (OpenCV's stubs refuse None there)
+        cv2.remap(image, strip, None, cv2.INTER_LINEAR, dst=out[rows], borderMode=cv2.BORDER_REPLICATE)  # type: ignore[call-overload]
     return out

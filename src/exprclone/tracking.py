@@ -111,9 +111,10 @@ class Tracker:
         self._relation: tuple[np.ndarray, float] | None = None
         self._since_check = 0
 
-    def _box(self, points: np.ndarray) -> np.ndarray:
-        """The detector box ``(left, top, right, bottom)`` predicted from landmarks."""
-        offset, side = self._relation
+    @staticmethod
+    def _box(points: np.ndarray, relation: tuple[np.ndarray, float]) -> np.ndarray:
+        """The detector box ``(left, top, right, bottom)`` predicted from landmarks, by the box's ``relation`` to them."""
+        offset, side = relation
         scale = _scale(points)
         cx, cy = points.mean(0) + offset * scale
         half = 0.5 * side * scale
@@ -145,9 +146,9 @@ class Tracker:
         small = cv2.resize(crop, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA) if scale < 1 else crop
         return bool(self.detector.faces(small))
 
-    def _lost(self, box: np.ndarray, points: np.ndarray, shape: tuple[int, ...]) -> bool:
+    def _lost(self, box: np.ndarray, points: np.ndarray, shape: tuple[int, ...], relation: tuple[np.ndarray, float]) -> bool:
         """Whether a fit strayed from the box it was fitted in, or off the frame."""
-        fitted = self._box(points)
+        fitted = self._box(points, relation)
         side = box[2] - box[0]
         moved = np.linalg.norm(0.5 * (fitted[:2] + fitted[2:]) - 0.5 * (box[:2] + box[2:])) / side
         resized = abs((fitted[2] - fitted[0]) / side - 1)
@@ -168,20 +169,20 @@ class Tracker:
         """
         self._since_check += 1
         self.confirmed = False
-        if self._points is not None:
-            box = self._box(self._points)
+        if self._points is not None and self._relation is not None:  # both are learnt by the first detection
+            box = self._box(self._points, self._relation)
             points = self.detector.fit(frame, tuple(box))
-            if not self._lost(box, points, frame.shape):
+            if not self._lost(box, points, frame.shape, self._relation):
                 if self._since_check < CHECK_EVERY:
                     self._points = points
                     return points
                 if self._face_in(frame, box):
                     self._since_check, self.confirmed, self._points = 0, True, points
                     return points
-        points = self._detect(frame)
-        if points is not None:
-            self._since_check, self.confirmed, self._points = 0, True, points
-        return points
+        found = self._detect(frame)
+        if found is not None:
+            self._since_check, self.confirmed, self._points = 0, True, found
+        return found
 
 
 def track(frames: Iterable[np.ndarray], detector: Detector, name: str = "video") -> Track:
@@ -333,7 +334,7 @@ class OneEuro:
         iod = max(float(np.linalg.norm(previous[j] - previous[i])), 1e-6)
         raw_speed = np.linalg.norm(points - previous, axis=1) / dt / iod
         speed = speed0 + self._alpha(self.d_cutoff, dt) * (raw_speed - speed0)
-        alpha = self._alpha(self.min_cutoff + self.beta * speed, dt)[:, None]
+        alpha = np.asarray(self._alpha(self.min_cutoff + self.beta * speed, dt))[:, None]
         filtered = previous + alpha * (points - previous)
         self._last = (t, filtered, speed)
         return filtered.copy()

@@ -121,7 +121,7 @@ class Transfer:
         """``eri ** w`` (float32), the exponent per pixel; ``box`` (where ``eri`` is not 1) is all that changes."""
         if self.details is None:
             return eri
-        exponent = self.details[box] if np.ndim(self.details) else self.details
+        exponent = self.details[box] if isinstance(self.details, np.ndarray) else self.details
         out = eri.copy()
         out[box] = np.exp(exponent * np.log(eri[box]))
         return out

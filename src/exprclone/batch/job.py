@@ -22,16 +22,17 @@ import os
 import signal
 import time
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import Future, ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
+from typing import IO, Any
 
 import numpy as np
 
 from ..errors import ExprCloneError
-from ..progress import Quiet
+from ..io.progress import Display, Progress, Quiet
 from . import work
-from .manifest import Row
+from .manifest import COLUMNS, Row
 
 #: photos detected per task.
 DETECT_CHUNK = 8
@@ -39,8 +40,10 @@ DETECT_CHUNK = 8
 CLONE_CHUNK = 4
 #: seconds to wait for a Dask scheduler.
 CONNECT_TIMEOUT = 10
+#: how a backend runs tasks: ``map(function, items)`` gives ``(index, result)`` as results come.
+Map = Callable[[Callable[[Any], Any], list[Any]], Iterator[tuple[int, Any]]]
 #: the report's columns.
-REPORT = ("row", "source_neutral", "source_expression", "target_neutral", "output", "status", "error", "lambda_k", "seconds")
+REPORT = ("row", *COLUMNS, "status", "error", "lambda_k", "seconds")
 
 
 def _ignore_interrupt() -> None:
@@ -55,7 +58,7 @@ class Local:
         self.jobs = jobs
 
     @contextlib.contextmanager
-    def running(self) -> Iterator[Callable[[Callable, list], Iterator]]:
+    def running(self) -> Iterator[Map]:
         """``map(function, items)``: results as they come, as ``(index, result)``."""
         if self.jobs == 1:
             yield lambda function, items: ((k, function(item)) for k, item in enumerate(items))
@@ -67,7 +70,7 @@ class Local:
             pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _completed(futures: dict) -> Iterator:
+def _completed(futures: dict[Future[Any], int]) -> Iterator[tuple[int, Any]]:
     try:
         for future in as_completed(futures):
             yield futures[future], future.result()
@@ -82,7 +85,7 @@ class Dask:
         self.scheduler = scheduler
 
     @contextlib.contextmanager
-    def running(self) -> Iterator[Callable[[Callable, list], Iterator]]:
+    def running(self) -> Iterator[Map]:
         try:
             from distributed import Client, as_completed
         except ImportError:
@@ -94,7 +97,7 @@ class Dask:
         with client:
             submitted: list = []
 
-            def map_(function, items):
+            def map_(function: Callable[[Any], Any], items: list[Any]) -> Iterator[tuple[int, Any]]:
                 futures = client.map(function, items, pure=False)
                 submitted.extend(futures)
                 index = {future.key: k for k, future in enumerate(futures)}
@@ -114,7 +117,7 @@ def fingerprint(path: str) -> str | None:
         return None
 
 
-def find_landmarks(photos: Iterable[str], run: Callable, cache: Path | None, progress) -> tuple[dict, dict]:
+def find_landmarks(photos: Iterable[str], run: Map, cache: Path | None, progress: Progress) -> tuple[dict[str, np.ndarray], dict[str, str]]:
     """Every photo's landmarks, each distinct content detected once (or read from ``cache``).
 
     Returns
@@ -125,9 +128,10 @@ def find_landmarks(photos: Iterable[str], run: Callable, cache: Path | None, pro
     """
     digests = {p: fingerprint(p) for p in dict.fromkeys(photos)}
     problems = {p: "no such file, or it cannot be read" for p, d in digests.items() if d is None}
-    found = {d: _cached(cache, d) for d in set(digests.values()) - {None}}
+    readable = {p: d for p, d in digests.items() if d is not None}
+    found: dict[str, np.ndarray | str | None] = {d: _cached(cache, d) for d in set(readable.values())}
     missing = sorted(d for d, points in found.items() if points is None)
-    first_path = {d: p for p, d in reversed(digests.items()) if d is not None}
+    first_path = {d: p for p, d in reversed(readable.items())}
     chunks = [missing[k : k + DETECT_CHUNK] for k in range(0, len(missing), DETECT_CHUNK)]
     bar, done = progress(len(missing), "photos"), 0
     for k, results in run(work.detect, [[first_path[d] for d in chunk] for chunk in chunks]):
@@ -137,8 +141,13 @@ def find_landmarks(photos: Iterable[str], run: Callable, cache: Path | None, pro
                 (cache / f"{digest}.json").write_text(json.dumps({"landmarks": points.tolist()}))
         done += len(chunks[k])
         bar.update(done)
-    landmarks = {p: found[d] for p, d in digests.items() if d is not None and isinstance(found[d], np.ndarray)}
-    problems.update({p: found[d] for p, d in digests.items() if d is not None and isinstance(found[d], str)})
+    landmarks = {}
+    for path, digest in readable.items():
+        value = found[digest]
+        if isinstance(value, np.ndarray):
+            landmarks[path] = value
+        elif isinstance(value, str):
+            problems[path] = value
     return landmarks, problems
 
 
@@ -147,7 +156,7 @@ def _cached(cache: Path | None, digest: str) -> np.ndarray | None:
     return None if path is None or not path.is_file() else np.array(json.loads(path.read_text())["landmarks"], float)
 
 
-def make_tasks(rows: list[Row], landmarks: dict, options: work.Options) -> list[work.Task]:
+def make_tasks(rows: list[Row], landmarks: dict[str, np.ndarray], options: work.JobOptions) -> list[work.Task]:
     """Rows grouped by source neutral photo and target, in tasks of at most :data:`CLONE_CHUNK` rows."""
     groups: dict[tuple[str, str], list[Row]] = {}
     for row in rows:
@@ -161,11 +170,18 @@ def make_tasks(rows: list[Row], landmarks: dict, options: work.Options) -> list[
 
 
 def run(
-    rows: list[Row], options: work.Options, backend, outcomes: dict, *, overwrite: bool = False, cache: Path | None = None, progress=Quiet
+    rows: list[Row],
+    options: work.JobOptions,
+    backend: Local | Dask,
+    outcomes: dict[int, work.Outcome],
+    *,
+    overwrite: bool = False,
+    cache: Path | None = None,
+    progress: Progress = Quiet,
 ) -> None:
     """Do the job, recording the outcome of every row in ``outcomes`` by its number (skipped, done or failed) as it comes.
 
-    ``progress(total, what)`` makes a display with ``update(done, note)`` (:class:`exprclone.progress.Bar`).
+    ``progress(total, what)`` makes a display with ``update(done, note)`` (:data:`exprclone.io.progress.Progress`).
     After Ctrl-C, ``outcomes`` holds what finished.
     """
     outcomes.update({row.number: work.Outcome(row.number, "skipped") for row in rows if not overwrite and os.path.exists(row.output)})
@@ -186,7 +202,7 @@ def run(
         _clone(make_tasks(ready, landmarks, options), map_, outcomes, progress(len(ready), "pairs"))
 
 
-def _clone(tasks: list[work.Task], map_: Callable, outcomes: dict, bar) -> None:
+def _clone(tasks: list[work.Task], map_: Map, outcomes: dict[int, work.Outcome], bar: Display) -> None:
     """Run the clone tasks, recording each row's outcome as it comes (so that Ctrl-C keeps what finished)."""
     start, done, failed = time.perf_counter(), 0, 0
     total = sum(len(t.rows) for t in tasks)
@@ -198,11 +214,11 @@ def _clone(tasks: list[work.Task], map_: Callable, outcomes: dict, bar) -> None:
         bar.update(done, f"{failed} failed, {rate:.1f}/s, {max(total - done, 0) / rate:.0f} s left")
 
 
-def write_report(path: str, rows: list[Row], outcomes: dict) -> None:
+def write_report(path: str, rows: list[Row], outcomes: dict[int, work.Outcome]) -> None:
     """The report: one CSV row per manifest row (rows not reached, after Ctrl-C, say ``not run``)."""
     from ..io.images import atomic_write
 
-    def lines(f):
+    def lines(f: IO[bytes]) -> None:
         import io
 
         text = io.TextIOWrapper(f, encoding="utf-8", newline="")

@@ -18,13 +18,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import ExprCloneError
+from ..io.images import PHOTO_SUFFIXES
+from ..roles import ROLES
 
 #: the columns every manifest has.
-COLUMNS = ("source_neutral", "source_expression", "target_neutral", "output")
+COLUMNS = (*ROLES, "output")
 #: the columns a manifest may have, overriding the job's options row by row.
 OPTIONAL = ("method", "lambda")
-#: photo files a target folder may hold.
-PHOTO_SUFFIXES = {".jpg", ".jpeg", ".png", ".bmp", ".tif", ".tiff", ".webp"}
 
 
 @dataclass(frozen=True)
@@ -60,17 +60,14 @@ def read_manifest(path: str, out: str | None = None) -> list[Row]:
     except (UnicodeDecodeError, csv.Error) as e:
         raise ExprCloneError(path, f"not a CSV manifest ({e})") from None
     outputs = Path(out).resolve() if out else folder
-    rows = [
-        Row(
-            k,
-            *(str(folder / r[c].strip()) for c in COLUMNS[:3]),
-            str(outputs / r["output"].strip()),
-            (r.get("method") or "").strip() or None,
-            (r.get("lambda") or "").strip() or None,
-        )
-        for k, r in enumerate(records, 1)
-    ]
-    return check_rows(rows, path)
+    return check_rows([_row(k, r, folder, outputs) for k, r in enumerate(records, 1)], path)
+
+
+def _row(number: int, record: dict[str, str], folder: Path, outputs: Path) -> Row:
+    """One manifest row: its photos in the manifest's folder, its output in ``outputs``, its own method and lambda if given."""
+    sn, se, tn = (str(folder / record[role].strip()) for role in ROLES)
+    method, lambda_k = ((record.get(column) or "").strip() or None for column in OPTIONAL)
+    return Row(number, sn, se, tn, str(outputs / record["output"].strip()), method, lambda_k)
 
 
 def rows_for_targets(source_neutral: str, source_expression: str, targets: str, out: str) -> list[Row]:

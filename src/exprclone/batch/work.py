@@ -21,11 +21,17 @@ import functools
 import time
 import warnings
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import ExprCloneError, naming
+from ..options import Options
+from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .manifest import Row
+
+if TYPE_CHECKING:
+    from ..cloner import Cloner
 
 #: glibc's ``mallopt`` parameters (malloc.h) and the largest mmap threshold it accepts on 64-bit
 #: systems (its adaptive threshold's ceiling): buffers up to 32 MB stay in the heap.
@@ -33,15 +39,15 @@ M_TRIM_THRESHOLD, M_MMAP_THRESHOLD, BUFFER_BYTES = -1, -3, 32 * 1024 * 1024
 
 
 @dataclass(frozen=True)
-class Options:
+class JobOptions:
     """The job's options: ``method`` and ``lambda_k`` for rows that do not set their own, and for every row the
-    mouth interior and the options of :class:`exprclone.options.Options` (``transfer``: global and image warp,
-    strength, regions, retargeting; keywords of the :class:`~exprclone.pipeline.Cloner`)."""
+    mouth interior and the :class:`~exprclone.options.Options` of the :class:`~exprclone.cloner.Cloner` (global and
+    image warp, strength, regions, retargeting)."""
 
     method: str = "e+md"
     lambda_k: float | str = "auto"
     mouth: bool = True
-    transfer: dict = field(default_factory=dict)
+    options: Options = Options()
 
 
 @dataclass(frozen=True)
@@ -50,7 +56,7 @@ class Task:
 
     rows: tuple[Row, ...]
     landmarks: dict[str, np.ndarray] = field(repr=False)
-    options: Options = Options()
+    options: JobOptions = JobOptions()
 
 
 @dataclass(frozen=True)
@@ -78,11 +84,11 @@ def keep_buffers() -> None:
 def detect(paths: list[str]) -> list[tuple[np.ndarray | None, str]]:
     """The landmarks of each photo, or the problem that stopped them (no face, not an image)."""
     from ..io.images import load_image
-    from ..pipeline import default_detector
+    from ..models import default_detector
 
     keep_buffers()
 
-    found = []
+    found: list[tuple[np.ndarray | None, str]] = []
     for path in paths:
         try:
             with warnings.catch_warnings():
@@ -93,32 +99,19 @@ def detect(paths: list[str]) -> list[tuple[np.ndarray | None, str]]:
     return found
 
 
-def parse_lambda(value: float | str) -> float | str:
-    """A row's lambda: ``auto`` or a number >= 0 (as text in a manifest), else ExprCloneError about ``lambda``."""
-    from ..checks import check_lambda
-
-    if value == "auto" or not isinstance(value, str):
-        return check_lambda(value)
-    try:
-        return check_lambda(float(value))
-    except ValueError:
-        raise ExprCloneError("lambda", f"must be 'auto' or a number >= 0, got {value!r}") from None
-
-
 def clone_rows(task: Task) -> list[Outcome]:
     """Clone the task's rows, writing each output; a row that fails says why and the others go on."""
+    from ..cloner import Cloner
     from ..io.images import load_image
-    from ..pipeline import Cloner
 
     keep_buffers()
     start, first = time.perf_counter(), task.rows[0]
     try:
-        with warnings.catch_warnings(), naming({"source_neutral": first.source_neutral, "target_neutral": first.target_neutral}):
+        with warnings.catch_warnings(), naming({SOURCE_NEUTRAL: first.source_neutral, TARGET_NEUTRAL: first.target_neutral}):
             warnings.simplefilter("ignore")
             neutral, target = load_image(first.source_neutral), load_image(first.target_neutral)
-            cloner = Cloner(
-                neutral, task.landmarks[first.source_neutral], target, task.landmarks[first.target_neutral], **task.options.transfer
-            )
+            landmarks = task.landmarks[first.source_neutral], task.landmarks[first.target_neutral]
+            cloner = Cloner(neutral, landmarks[0], target, landmarks[1], options=task.options.options)
     except ExprCloneError as e:
         return [Outcome(row.number, "failed", str(e)) for row in task.rows]
     outcomes = []
@@ -128,14 +121,15 @@ def clone_rows(task: Task) -> list[Outcome]:
     return outcomes
 
 
-def _clone_row(cloner, row: Row, task: Task, start: float) -> Outcome:
+def _clone_row(cloner: Cloner, row: Row, task: Task, start: float) -> Outcome:
     """One row on the prepared faces: its expression cloned by its method, the output written."""
+    from ..checks import parse_lambda
     from ..io.images import load_image, save_image
     from ..methods import lookup
 
     method = row.method or task.options.method
     try:
-        with warnings.catch_warnings(), naming({"source_expression": row.source_expression}):
+        with warnings.catch_warnings(), naming({SOURCE_EXPRESSION: row.source_expression}):
             warnings.simplefilter("ignore")
             lookup((method,))
             lambda_k = parse_lambda(row.lambda_k if row.lambda_k is not None else task.options.lambda_k)

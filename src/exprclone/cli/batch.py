@@ -5,15 +5,19 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from typing import TYPE_CHECKING
 
 from ..errors import ExprCloneError
 from .inputs import add_lambda, add_mouth, add_transfer, transfer_options
+
+if TYPE_CHECKING:
+    from ..batch.manifest import Row
 
 #: exit status when some rows failed (the others were done).
 EXIT_SOME_FAILED = 1
 
 
-def add_parser(sub) -> None:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     from ..methods import METHODS
 
     b = sub.add_parser("batch", help="many clones in one run: a manifest, or one expression on a folder of portraits")
@@ -35,7 +39,7 @@ def add_parser(sub) -> None:
     )
 
 
-def rows_of(args: argparse.Namespace):
+def rows_of(args: argparse.Namespace) -> list[Row]:
     """The job's rows, from the manifest or from --targets (ExprCloneError for arguments that cannot be used)."""
     from ..batch.manifest import read_manifest, rows_for_targets
 
@@ -54,17 +58,17 @@ def run(args: argparse.Namespace) -> None:
     from pathlib import Path
 
     from ..batch import job, work
-    from ..progress import Bar
+    from ..io.progress import Bar
 
     if args.jobs < 1:
         raise ExprCloneError("--jobs", f"expected at least 1, got {args.jobs}")
     rows = rows_of(args)
     folder = Path(args.out or Path(args.manifest).resolve().parent)
     report = args.report or str(folder / "report.csv")
-    options = work.Options(args.method, args.lambda_k, args.mouth, transfer_options(args))
+    options = work.JobOptions(args.method, args.lambda_k, args.mouth, transfer_options(args))
     backend = job.Dask(args.scheduler) if args.scheduler else job.Local(args.jobs)
     cache = None if args.cache is None else Path(args.cache)
-    outcomes: dict = {}
+    outcomes: dict[int, work.Outcome] = {}
     try:
         job.run(rows, options, backend, outcomes, overwrite=args.overwrite, cache=cache, progress=lambda n, what: Bar(sys.stderr, n, what))
     except ExprCloneError:  # the job could not go on (a worker died, the cluster went): keep the report of what finished

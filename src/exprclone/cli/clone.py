@@ -5,11 +5,11 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..errors import naming
+from ..options import Options
 from .inputs import add_inputs, load_inputs
 
 
-def add_parser(sub) -> None:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     from ..methods import METHODS
 
     c = sub.add_parser("clone", help="put the source's expression on the target's face")
@@ -22,27 +22,23 @@ def add_parser(sub) -> None:
 def run(args: argparse.Namespace) -> None:
     from ..io.images import atomic_write, check_output_path, save_image
     from ..io.record import result_record
-    from ..pipeline import clone
 
     paths = [args.source_neutral, args.source_expression, args.target_neutral]
     check_output_path(args.output, paths)
     if args.save_json:
         check_output_path(args.save_json, paths + [args.output], extensions=[".json"])
-    names, images, options = load_inputs(args)
-    with naming(names):
-        result = clone(*images, method=args.method, **options)
+    inputs = load_inputs(args)
+    result = inputs.clone((args.method,))[args.method]
     save_image(args.output, result.image, inputs=paths)
     if args.save_json:
-        record = json.dumps(result_record(result, names), indent=1).encode()
+        record = json.dumps(result_record(result, inputs.names), indent=1).encode()
         atomic_write(args.save_json, lambda f: f.write(record))
     extra = "" if result.lambda_k is None else f", lambda_k={result.lambda_k:g}"
     print(f"{args.output}: {args.method}{extra}{describe(result.options)}")
 
 
-def describe(options) -> str:
+def describe(options: Options) -> str:
     """The options that are not the defaults, for the last line: ``, global warp rbf, strength 0.5``."""
-    from ..options import Options
-
     default, said = Options(), []
     if options.global_stage != default.global_stage:
         said.append(f"global warp {options.global_stage}")

@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 
-from ..errors import naming
 from ..methods import FIGURES
 from .inputs import add_inputs, load_inputs
 
 
-def add_parser(sub) -> None:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     c = sub.add_parser("compare", help="the paper's Figs. 11-13 and the DB curve as one sheet, or its Figs. 19-21")
     add_inputs(c)
     c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
@@ -25,14 +25,12 @@ def add_parser(sub) -> None:
 def run(args: argparse.Namespace) -> None:
     from ..evaluation.figures import draw, figure_request
     from ..io.images import check_output_path, save_image
-    from ..pipeline import clone_methods
 
     paths = [args.source_neutral, args.source_expression, args.target_neutral]
     check_output_path(args.output, paths)
-    names, images, options = load_inputs(args)
-    methods, options = figure_request(args.figure, options)
-    with naming(names):
-        results = clone_methods(*images, methods, **options)
-    save_image(args.output, draw(args.figure, results, images), inputs=paths)
+    inputs = load_inputs(args)
+    methods, options = figure_request(args.figure, inputs.options, args.global_warp is not None)
+    results = replace(inputs, options=options).clone(methods)
+    save_image(args.output, draw(args.figure, results, inputs.images), inputs=paths)
     shown = f"{len(methods)} methods" if len(methods) > 2 else f"the elastic model on global warp {results['global'].options.global_stage}"
     print(f"{args.output}: Fig. {args.figure}, {shown}, lambda_k={results['elastic'].lambda_k:g}")

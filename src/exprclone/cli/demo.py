@@ -5,12 +5,18 @@ from __future__ import annotations
 import argparse
 import json
 import os
+from typing import TYPE_CHECKING
+
+from ..roles import ROLES
+
+if TYPE_CHECKING:
+    import numpy as np
 
 #: the demo video's portrait size (its longest side, pixels).
 VIDEO_SIZE = 256
 
 
-def add_parser(sub) -> None:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     d = sub.add_parser("demo", help="clone, compare and drive a video on the sample photos shipped in the package")
     d.add_argument("-o", "--output", default="exprclone-demo", metavar="DIR", help="folder to write into (default: exprclone-demo)")
 
@@ -22,10 +28,10 @@ def run(args: argparse.Namespace) -> None:
     from ..pipeline import clone_methods
 
     os.makedirs(args.output, exist_ok=True)
-    paths = {"source_neutral": data.path(data.SOURCE), "source_expression": data.path(data.SOURCE, "smile")}
-    paths["target_neutral"] = data.path(data.TARGET)
-    images = [data.photo(data.SOURCE), data.photo(data.SOURCE, "smile"), data.photo(data.TARGET)]
-    results = clone_methods(*images)
+    people = (data.SOURCE, "neutral"), (data.SOURCE, "smile"), (data.TARGET, "neutral")
+    paths = {role: data.path(*person) for role, person in zip(ROLES, people)}
+    sn, se, tn = (data.photo(*person) for person in people)
+    results = clone_methods(sn, se, tn)
     written = {"clone.png": f"e+md, lambda_k={results['e+md'].lambda_k:g}: person {data.SOURCE}'s smile on person {data.TARGET}"}
     save_image(os.path.join(args.output, "clone.png"), results["e+md"].image)
     record = json.dumps(result_record(results["e+md"], {k: str(v) for k, v in paths.items()}), indent=1).encode()
@@ -33,23 +39,24 @@ def run(args: argparse.Namespace) -> None:
     written["clone.json"] = "the landmarks of every stage, lambda_k and the DB curve"
     from ..evaluation.figures import sheet
 
-    save_image(os.path.join(args.output, "compare.jpg"), sheet(results, images[1]))
+    save_image(os.path.join(args.output, "compare.jpg"), sheet(results, se))
     written["compare.jpg"] = "the seven methods of Fig. 11, the difference images of Figs. 12-13, the DB curve"
-    written["video.mp4"] = drive_video(os.path.join(args.output, "video.mp4"), images[2])
+    written["video.mp4"] = drive_video(os.path.join(args.output, "video.mp4"), tn)
     for name, what in written.items():
         print(f"{os.path.join(args.output, name)}: {what}")
     print(f"samples: {data.folder()} (credits and licence: {data.folder() / 'CREDITS.md'})")
 
 
-def drive_video(output: str, portrait) -> str:
+def drive_video(output: str, portrait: np.ndarray) -> str:
     """The sample clip driving the portrait, side by side, with its sound; what was written."""
     from .. import data, drive
     from ..io import video as video_io
+    from ..io.frames import resize_portrait, side_by_side
 
     clip = str(data.clip())
-    portrait, _ = drive.resize_portrait(portrait, None, VIDEO_SIZE)
+    portrait, _ = resize_portrait(portrait, None, VIDEO_SIZE)
     fps = video_io.probe(clip).fps
     recording = drive.prepare(portrait, None, lambda: video_io.read_frames(clip), float(fps), neutral_frame="closed")
-    frames = (drive.side_by_side(f.driving, f.image) for f in recording.frames(video_io.read_frames(clip)))
+    frames = (side_by_side(f.driving, f.image) for f in recording.frames(video_io.read_frames(clip)))
     count = video_io.write_video(output, frames, fps, audio_from=clip)
     return f"{count} frames of the sample GRID clip driving person {data.TARGET}, side by side, with the clip's sound"

@@ -5,16 +5,18 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from collections.abc import Callable
+from typing import Any
 
 from ..errors import ExprCloneError
 from ..options import GLOBAL_WARPS, IMAGE_WARPS
 from .inputs import strength_arg
 
 
-def listed(parse, name: str):
+def listed(parse: Callable[[str], Any] | tuple[str, ...], name: str) -> Callable[[str], tuple[Any, ...]]:
     """An argparse type: comma-separated values, each parsed by ``parse`` (a function, or the tuple of allowed words)."""
 
-    def parse_list(text: str) -> tuple:
+    def parse_list(text: str) -> tuple[Any, ...]:
         values = tuple(v.strip() for v in text.split(","))
         if isinstance(parse, tuple):
             bad = [v for v in values if v not in parse]
@@ -26,7 +28,7 @@ def listed(parse, name: str):
     return parse_list
 
 
-def add_parser(sub) -> None:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     e = sub.add_parser("evaluate", help="score every method against real smiles on many pairs")
     e.add_argument(
         "--data",
@@ -71,10 +73,12 @@ def run(args: argparse.Namespace) -> None:
 
     from .. import data as samples
     from ..evaluation.london import Dataset
-    from ..evaluation.report import contrast_table, contrasts, summarise, table, variants, write_report
-    from ..evaluation.report import run as score
+    from ..evaluation.report import contrast_table, table, write_report
+    from ..evaluation.runner import run as score
+    from ..evaluation.runner import variants
+    from ..evaluation.statistics import contrasts, summarise
+    from ..io.progress import Bar
     from ..methods import METHODS, lookup
-    from ..progress import Bar
 
     with_methods = METHODS if args.methods == "all" else tuple(m.strip() for m in args.methods.split(","))
     try:

@@ -3,38 +3,51 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
+from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from ..errors import ExprCloneError
-from ..options import GLOBAL_WARPS, IMAGE_WARPS, REGIONS, STRENGTH_RANGE
+from ..errors import ExprCloneError, naming
+from ..options import GLOBAL_WARPS, IMAGE_WARPS, REGIONS, STRENGTH_RANGE, Options
+from ..roles import ROLES
 
-#: the three photos' roles (as the core names them in errors) and their options' stems.
-ROLES = ("source_neutral", "source_expression", "target_neutral")
-#: image files a folder of eigenface training photos may hold.
-PHOTO_SUFFIXES = {".jpg", ".jpeg", ".png", ".bmp", ".tif", ".tiff", ".webp"}
+if TYPE_CHECKING:
+    import numpy as np
 
+    from ..cloner import CloneResult
+    from ..eigenface import Eigenfaces
 
-def word_or_number(word: str, number: type):
-    """An argparse type: ``word``, or a ``number`` (int or float) >= 0."""
-
-    def parse(text: str) -> int | float | str:
-        if text == word:
-            return text
-        try:
-            value = number(text)
-        except ValueError:
-            value = None
-        if value is None or not value >= 0:
-            raise argparse.ArgumentTypeError(f"expected {word!r} or a number >= 0, got {text!r}")
-        return value
-
-    return parse
+#: what each photo (:data:`exprclone.roles.ROLES`) is, for the help.
+PHOTO_HELP = (
+    "photo of the source person, neutral",
+    "photo of the source person with the expression",
+    "photo of the target person, neutral",
+)
 
 
-#: ``auto`` or a number >= 0 (``inf`` allowed: the local result).
-lambda_arg = word_or_number("auto", float)
-#: ``closed`` or a frame number.
-frame_arg = word_or_number("closed", int)
+def lambda_arg(text: str) -> float | str:
+    """An argparse type: ``auto`` or a number >= 0 (``inf`` allowed: the local result), as
+    :func:`exprclone.checks.parse_lambda` reads it."""
+    from ..checks import parse_lambda  # numpy: loaded when the arguments are parsed, not when the parser is built
+
+    try:
+        return parse_lambda(text)
+    except ExprCloneError as e:
+        raise argparse.ArgumentTypeError(e.problem) from None
+
+
+def frame_arg(text: str) -> int | str:
+    """An argparse type: ``closed`` or a frame number (from 0)."""
+    if text == "closed":
+        return text
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected 'closed' or a number >= 0, got {text!r}")
+    return value
 
 
 def strength_arg(text: str) -> float:
@@ -60,9 +73,8 @@ def regions_arg(text: str) -> tuple[str, ...]:
 
 def add_inputs(p: argparse.ArgumentParser) -> None:
     """The three photos, their optional landmark files and the clone options."""
-    p.add_argument("source_neutral", help="photo of the source person, neutral")
-    p.add_argument("source_expression", help="photo of the source person with the expression")
-    p.add_argument("target_neutral", help="photo of the target person, neutral")
+    for role, what in zip(ROLES, PHOTO_HELP):
+        p.add_argument(role, help=what)
     add_lambda(p, "elasticity ratio k_A'/k_N; auto picks it by the DB metric (default)")
     for role in ROLES:
         which = role.replace("_", "-")
@@ -115,19 +127,21 @@ def add_transfer(p: argparse.ArgumentParser, given: bool) -> None:
         action="store_false",
         default=None,
         help="run the paper's global and local stages: the source's motion as it is, and its own organ shapes"
-        " (by default the motion is cleaned and each organ keeps the target's own shape; README: Fidelity to the target)",
+        " (by default the motion is cleaned and each organ keeps the target's own shape)",
     )
 
 
-def transfer_options(args: argparse.Namespace, target_shape: tuple[int, ...] | None = None) -> dict:
-    """The options of :class:`exprclone.options.Options` given on the command line (``--global-landmarks`` read for a
-    target photo of ``target_shape``); those not given are left to the defaults."""
-    from ..io.landmarks import read_landmarks
-
-    given = getattr(args, "global_landmarks", None)
-    options = dict(global_warp=args.global_warp, image_warp=args.image_warp, strength=args.strength, only=args.only, retarget=args.retarget)
-    options["global_landmarks"] = None if given is None else read_landmarks(given, target_shape)
-    return {k: v for k, v in options.items() if v is not None}
+def transfer_options(args: argparse.Namespace) -> Options:
+    """The :class:`~exprclone.options.Options` given on the command line but ``--global-landmarks`` (read with the target
+    photo, :func:`load_inputs`); those not given are the defaults."""
+    default = Options()
+    return Options(
+        global_warp=args.global_warp or default.global_warp,
+        image_warp=args.image_warp or default.image_warp,
+        strength=default.strength if args.strength is None else args.strength,
+        only=args.only,
+        retarget=default.retarget if args.retarget is None else args.retarget,
+    )
 
 
 def add_lambda(p: argparse.ArgumentParser, help: str) -> None:
@@ -149,14 +163,14 @@ def add_mouth(p: argparse.ArgumentParser) -> None:
     )
 
 
-def load_eigenfaces(path: str | None):
+def load_eigenfaces(path: str | None) -> Eigenfaces | None:
     """The basis named by ``--eigenfaces``: None (packaged), a .npz, or a folder of photos of one person to train on."""
     if path is None:
         return None
     from ..eigenface import Eigenfaces, train
-    from ..io.images import load_image
+    from ..io.images import PHOTO_SUFFIXES, load_image
     from ..layout import DLIB68
-    from ..pipeline import default_detector
+    from ..models import default_detector
 
     p = Path(path)
     if p.is_dir():
@@ -171,17 +185,53 @@ def load_eigenfaces(path: str | None):
         raise ExprCloneError(path, f"not an eigenface basis (.npz with mean, components, size): {e}") from None
 
 
-def load_inputs(args: argparse.Namespace) -> tuple[dict[str, str], list, dict]:
-    """The three photos as named on the command line (role to path), loaded, and the options for :func:`exprclone.clone`."""
+@dataclass(frozen=True)
+class Inputs:
+    """The three photos of ``clone`` and ``compare`` as the command line gives them, loaded, and how to clone them.
+
+    Attributes
+    ----------
+    names : dict of str to str
+        Each photo's role (:data:`exprclone.roles.ROLES`), and ``global_landmarks`` if given, to its path: what errors name.
+    images : tuple of three ndarray of shape (H, W, 3), uint8 RGB
+    landmarks : tuple of three ndarray of shape (N, 2) or None
+        Given by a landmark file, or None (detected).
+    lambda_k : float or "auto"
+    eigenfaces : Eigenfaces or None
+    mouth : bool
+    options : Options
+    """
+
+    names: dict[str, str]
+    images: tuple[np.ndarray, np.ndarray, np.ndarray]
+    landmarks: tuple[np.ndarray | None, np.ndarray | None, np.ndarray | None]
+    lambda_k: float | str
+    eigenfaces: Eigenfaces | None
+    mouth: bool
+    options: Options
+
+    def clone(self, methods: tuple[str, ...]) -> dict[str, CloneResult]:
+        """The photos cloned by ``methods`` (:func:`exprclone.clone_methods`); errors name the command line's files."""
+        from ..pipeline import clone_methods
+
+        with naming(self.names):
+            return clone_methods(
+                *self.images, methods, self.lambda_k, self.landmarks, eigenfaces=self.eigenfaces, mouth=self.mouth, options=self.options
+            )
+
+
+def load_inputs(args: argparse.Namespace) -> Inputs:
+    """The three photos named on the command line, loaded, their landmark files read, and the clone's options."""
     from ..io.images import load_image
     from ..io.landmarks import read_landmarks
 
     paths = {role: getattr(args, role) for role in ROLES}
-    images = [load_image(p) for p in paths.values()]
+    sn, se, tn = (load_image(p) for p in paths.values())
     files = [getattr(args, f"{role}_landmarks") for role in ROLES]
-    landmarks = tuple(None if f is None else read_landmarks(f, im.shape) for f, im in zip(files, images))
-    options = dict(lambda_k=args.lambda_k, landmarks=landmarks, eigenfaces=load_eigenfaces(args.eigenfaces), mouth=args.mouth)
-    options.update(transfer_options(args, images[2].shape))
+    read = [None if f is None else read_landmarks(f, im.shape) for f, im in zip(files, (sn, se, tn))]
+    options = transfer_options(args)
     if args.global_landmarks:
+        options = dataclasses.replace(options, global_landmarks=read_landmarks(args.global_landmarks, tn.shape))
         paths["global_landmarks"] = args.global_landmarks
-    return paths, images, options
+    eigenfaces = load_eigenfaces(args.eigenfaces)
+    return Inputs(paths, (sn, se, tn), (read[0], read[1], read[2]), args.lambda_k, eigenfaces, args.mouth, options)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 import warnings
+from typing import TextIO
 
 from ..errors import ExprCloneError
 from . import batch, clone, compare, demo, evaluate, serve, video
@@ -30,7 +31,9 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+def show_warning(
+    message: Warning | str, category: type[Warning], filename: str, lineno: int, file: TextIO | None = None, line: str | None = None
+) -> None:
     """Warnings as one line each on stderr, no source location."""
     print(f"exprclone: warning: {message}", file=sys.stderr)
 

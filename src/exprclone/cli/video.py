@@ -4,19 +4,28 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
 from ..errors import ExprCloneError
+from ..roles import SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .inputs import add_eigenfaces, add_lambda, add_mouth, add_transfer, frame_arg, transfer_options
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from ..drive import Recording
+    from ..io.video import VideoInfo
 
 #: the smallest ``--size``.
 MIN_SIZE = 16
 
 
-def add_parser(sub) -> None:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     from ..methods import METHODS
 
     v = sub.add_parser("video", help="drive a neutral portrait with a video of the source person")
-    v.add_argument("target_neutral", help="photo of the target person, neutral (the portrait)")
+    v.add_argument(TARGET_NEUTRAL, help="photo of the target person, neutral (the portrait)")
     v.add_argument("driving_video", help="video of the source person (any format FFmpeg reads)")
     v.add_argument("-o", "--output", required=True, help="output video (.mp4, .mov or .mkv)")
     neutral = v.add_mutually_exclusive_group()
@@ -41,11 +50,12 @@ def add_parser(sub) -> None:
     add_transfer(v, given=False)
 
 
-def prepare(args: argparse.Namespace, inputs: list[str]):
+def prepare(args: argparse.Namespace, inputs: list[str]) -> tuple[VideoInfo, Recording]:
     """The video's probe and the recording prepared from the command's arguments (:func:`exprclone.drive.prepare`)."""
     from .. import drive
     from ..errors import naming
     from ..io import video as video_io
+    from ..io.frames import resize_portrait
     from ..io.images import check_output_path, load_image
     from ..io.landmarks import read_landmarks
     from .inputs import load_eigenfaces
@@ -55,10 +65,10 @@ def prepare(args: argparse.Namespace, inputs: list[str]):
         raise ExprCloneError("--size", f"expected at least {MIN_SIZE} pixels, got {args.size}")
     target = load_image(args.target_neutral)
     points = None if args.target_neutral_landmarks is None else read_landmarks(args.target_neutral_landmarks, target.shape)
-    target, points = drive.resize_portrait(target, points, args.size)
+    target, points = resize_portrait(target, points, args.size)
     source = None if args.source_neutral is None else (load_image(args.source_neutral), None)
     info = video_io.probe(args.driving_video)
-    names = {"target_neutral": args.target_neutral, "source_neutral": args.source_neutral or "", "driving_video": args.driving_video}
+    names = {TARGET_NEUTRAL: args.target_neutral, SOURCE_NEUTRAL: args.source_neutral or "", "driving_video": args.driving_video}
     with naming(names):
         recording = drive.prepare(
             target,
@@ -74,21 +84,21 @@ def prepare(args: argparse.Namespace, inputs: list[str]):
             eigenfaces=load_eigenfaces(args.eigenfaces),
             head_motion=args.head_motion,
             mouth=args.mouth,
-            **transfer_options(args),
+            options=transfer_options(args),
         )
     return info, recording
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..drive import side_by_side
     from ..io import video as video_io
-    from ..progress import Bar
+    from ..io.frames import side_by_side
+    from ..io.progress import Bar
 
     inputs = [p for p in (args.target_neutral, args.driving_video, args.source_neutral) if p]
     info, recording = prepare(args, inputs)
     bar = Bar(sys.stderr, len(recording.points), "frames")
 
-    def frames():
+    def frames() -> Iterator[np.ndarray]:
         for done, f in enumerate(recording.frames(video_io.read_frames(args.driving_video)), 1):
             yield side_by_side(f.driving, f.image) if args.side_by_side else f.image
             bar.update(done, f"{done / bar.elapsed:.1f} fps")
@@ -97,7 +107,7 @@ def run(args: argparse.Namespace) -> None:
     print(f"{args.output}: {written} frames at {float(info.fps):g} fps, {args.method}{describe(args, recording, written / bar.elapsed)}")
 
 
-def describe(args: argparse.Namespace, recording, rate: float) -> str:
+def describe(args: argparse.Namespace, recording: Recording, rate: float) -> str:
     """The end of the last line: how lambda_k was chosen, the neutral face, the frames without a face, the speed."""
     import numpy as np
 

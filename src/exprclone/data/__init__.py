@@ -15,8 +15,12 @@ from __future__ import annotations
 
 from importlib import resources
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import ExprCloneError
+
+if TYPE_CHECKING:
+    import numpy as np
 
 #: the London Set's people shipped, each with a neutral and a smiling photo.
 PEOPLE = ("001", "003", "126")
@@ -51,7 +55,7 @@ def clip() -> Path:
     return folder() / "grid" / "lbax4n.mp4"
 
 
-def photo(face_id: str, kind: str = "neutral"):
+def photo(face_id: str, kind: str = "neutral") -> np.ndarray:
     """One of the London photos, loaded: ``(1350, 1350, 3)`` uint8 RGB."""
     from ..io.images import load_image
 

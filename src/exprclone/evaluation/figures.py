@@ -14,19 +14,24 @@ another global warp (``exprclone compare --figure 19``).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import replace
+
 import cv2
 import numpy as np
 
 from .. import raster
+from ..cloner import CloneResult
 from ..methods import FIGURES, METHODS, TABLE
 from ..metric import DBCurve
-from ..pipeline import CloneResult
+from ..options import GIVEN, Options
+from ..roles import SOURCE_EXPRESSION, TARGET_NEUTRAL
 
 CELL = 320
 #: the methods Figs. 19-21 show: the global warp's result, and the elastic model on it (no MD: the paper's target had no texture).
 FIG19 = ("global", "elastic")
 #: how each global warp is named in Figs. 19-21's panel (b).
-GLOBAL_NAMES = {"similarity": "similarity (Liu et al.)", "rbf": "RBF (Seol and Lewis)", "given": "given landmarks"}
+GLOBAL_NAMES = {"similarity": "similarity (Liu et al.)", "rbf": "RBF (Seol and Lewis)", GIVEN: "given landmarks"}
 FIG13 = (
     ("local", "global"),
     ("elastic", "global"),
@@ -95,8 +100,8 @@ def sheet(results: dict[str, CloneResult], source_expression: np.ndarray) -> np.
     """
     letters = {m.name: m.panel for m in TABLE}
     lm = results["global"].landmarks
-    box = face_box(lm["target_neutral"], results["global"].image.shape)
-    src_box = face_box(lm["source_expression"], source_expression.shape)
+    box = face_box(lm[TARGET_NEUTRAL], results["global"].image.shape)
+    src_box = face_box(lm[SOURCE_EXPRESSION], source_expression.shape)
     crop = {m: r.image[box] for m, r in results.items()}
     row1 = [cell(crop[m], f"({letters[m]}) {m}") for m in METHODS] + [cell(source_expression[src_box], "(h) source expression")]
     row2 = [cell(difference(crop[m], crop["global"]), f"Fig. 12: ({letters[m]}) - (a)") for m in METHODS[1:]]
@@ -119,8 +124,8 @@ def fig19(results: dict[str, CloneResult], target_neutral: np.ndarray, source_ex
     target_neutral, source_expression : ndarray of shape (H, W, 3)
     """
     gl, el = (results[m] for m in FIG19)
-    box = face_box(gl.landmarks["target_neutral"], target_neutral.shape)
-    src_box = face_box(gl.landmarks["source_expression"], source_expression.shape)
+    box = face_box(gl.landmarks[TARGET_NEUTRAL], target_neutral.shape)
+    src_box = face_box(gl.landmarks[SOURCE_EXPRESSION], source_expression.shape)
     name = GLOBAL_NAMES[gl.options.global_stage]
     lam = "chosen" if el.lambda_k is None else f"{el.lambda_k:g}"
     row = [
@@ -134,16 +139,16 @@ def fig19(results: dict[str, CloneResult], target_neutral: np.ndarray, source_ex
     return np.hstack(row)
 
 
-def figure_request(figure: str, options: dict) -> tuple[tuple[str, ...], dict]:
+def figure_request(figure: str, options: Options, global_warp_asked: bool) -> tuple[tuple[str, ...], Options]:
     """The methods and the clone options that ``figure`` (one of :data:`FIGURES`) needs: Fig. 19 shows the RBF
-    transfer unless another global warp, or landmarks, are asked for."""
+    transfer unless a global warp was asked for (``global_warp_asked``) or its landmarks are given."""
     if figure == FIGURES[0]:
         return METHODS, options
-    if "global_warp" not in options and "global_landmarks" not in options:
-        options = dict(options, global_warp="rbf")
+    if not global_warp_asked and options.global_landmarks is None:
+        options = replace(options, global_warp="rbf")
     return FIG19, options
 
 
-def draw(figure: str, results: dict[str, CloneResult], images: list[np.ndarray]) -> np.ndarray:
+def draw(figure: str, results: dict[str, CloneResult], images: Sequence[np.ndarray]) -> np.ndarray:
     """``figure`` (one of :data:`FIGURES`) of the results of :func:`figure_request`'s methods on the three photos."""
     return sheet(results, images[1]) if figure == FIGURES[0] else fig19(results, images[2], images[1])

@@ -19,13 +19,19 @@ person's real smile, a clone of A's smile onto B can be compared with B's own sm
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import cv2
 import numpy as np
 
-from .. import eri, geometry, warp
+from .. import eri, geometry, raster, warp
 from ..landmarks import model_path
 from ..layout import Layout
 from ..mouth import interior, mouth_width
+from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
+
+if TYPE_CHECKING:
+    from ..cloner import CloneResult
 
 #: dlib's threshold: descriptors closer than this are the same person.
 SAME_PERSON = 0.6
@@ -97,7 +103,7 @@ class FaceDescriptor:
     """dlib's 128-d face descriptor (ResNet), loaded lazily on first use."""
 
     def __init__(self) -> None:
-        self._model = None
+        self._model: Any = None  # dlib's model, loaded on first use (dlib has no type information)
 
     def __call__(self, image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
         """The descriptor of the face with these 68 landmarks, ``(128,)``."""
@@ -116,7 +122,7 @@ def identity_distance(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.linalg.norm(a - b))
 
 
-def material_swaps(result, source_neutral: np.ndarray, source_expression: np.ndarray, layout: Layout) -> np.ndarray:
+def material_swaps(result: CloneResult, source_neutral: np.ndarray, source_expression: np.ndarray, layout: Layout) -> np.ndarray:
     """Where the source's two photos show different things, on the face of a clone: ``(H, W)`` bool in its frame.
 
     Both photos are placed on the result's final geometry as the ERI places them (the
@@ -128,22 +134,22 @@ def material_swaps(result, source_neutral: np.ndarray, source_expression: np.nda
 
     Parameters
     ----------
-    result : exprclone.pipeline.CloneResult
+    result : exprclone.cloner.CloneResult
     source_neutral, source_expression : ndarray of shape (h, w, 3), uint8 RGB
         The source's photos the result was made from.
     layout : Layout
     """
     marks, shape = result.landmarks, result.image.shape
-    mesh = warp.build_mesh(marks["target_neutral"], shape, layout)
+    mesh = warp.build_mesh(marks[TARGET_NEUTRAL], shape, layout)
     dst = mesh.control_points(marks["final"])
     placed = [
-        mesh.control_points(p, geometry.fit_rigid(marks["target_neutral"], p, layout))
-        for p in (marks["source_neutral"], marks["source_expression"])
+        mesh.control_points(p, geometry.fit_rigid(marks[TARGET_NEUTRAL], p, layout))
+        for p in (marks[SOURCE_NEUTRAL], marks[SOURCE_EXPRESSION])
     ]
     neutral, expression = (
         warp.warp(image, c, dst, mesh.triangles, shape[:2]) for image, c in zip((source_neutral, source_expression), placed)
     )
     sigma = eri.FILTER_SIGMA * geometry.interocular(marks["final"], layout)
-    blurred = [cv2.GaussianBlur(eri.luminance(image), (0, 0), sigma) + eri.EPS for image in (neutral, expression)]
+    blurred = [cv2.GaussianBlur(eri.luminance(image), (0, 0), sigma) + raster.EPS for image in (neutral, expression)]
     face = eri.ratio_mask(shape[:2], dst[: mesh.n_landmarks], dst[mesh.forehead], layout) > 0.5
     return face & (np.abs(np.log(blurred[1] / blurred[0])) > np.log(SWAP_FACTOR))

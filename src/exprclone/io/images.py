@@ -16,7 +16,7 @@ from typing import IO
 
 import cv2
 import numpy as np
-from PIL import ExifTags, Image, ImageOps, UnidentifiedImageError
+from PIL import ExifTags, Image, ImageFile, ImageOps, UnidentifiedImageError
 
 from ..errors import ExprCloneError, ExprCloneWarning
 
@@ -35,6 +35,8 @@ _FORMATS: dict[str, tuple[str, dict[str, int]]] = {
     ".tiff": ("TIFF", {}),
     ".webp": ("WEBP", {"quality": 95}),
 }
+#: the photo files a folder of photos may hold (batch targets, eigenface training photos): the formats :func:`save_image` writes.
+PHOTO_SUFFIXES = frozenset(_FORMATS)
 _GRAY_MODES = {"1", "L", "LA", "La"}
 _PLAIN_MODES = _GRAY_MODES | {"RGB", "RGBA", "RGBa", "RGBX", "P", "PA"}
 
@@ -213,7 +215,7 @@ def _open(path: PathLike | bytes, name: str, max_pixels: int | None) -> tuple[Im
     return image, rawmode
 
 
-def _stored_rawmode(image: Image.Image) -> str:
+def _stored_rawmode(image: ImageFile.ImageFile) -> str:
     """Pillow's name for the pixel layout in the file (such as 'RGB;16B'); read before loading."""
     if not image.tile:
         return ""
@@ -263,7 +265,8 @@ def _to_rgb(image: Image.Image, rawmode: str, notes: list[str]) -> np.ndarray:
         notes.append("grayscale expanded to RGB")
     if image.mode in ("RGBA", "RGBa", "LA", "La", "PA") or "transparency" in image.info:
         rgba = image.convert("RGBA")
-        if rgba.getextrema()[3][0] < 255:
+        # an RGBA image's extrema are four (min, max) pairs, one per band; Pillow's stubs cannot tell them from one band's
+        if rgba.getextrema()[3][0] < 255:  # type: ignore[misc]
             notes.append("transparent areas composited over white")
         image = Image.alpha_composite(Image.new("RGBA", rgba.size, "white"), rgba)
     # an RGB image needs no conversion (converting would copy it twice: 10 ms of 15 at 1350 px)

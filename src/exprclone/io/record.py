@@ -3,6 +3,10 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ..cloner import CloneResult
 
 
 def _number(value: float | None) -> float | str | None:
@@ -10,8 +14,8 @@ def _number(value: float | None) -> float | str | None:
     return None if value is None else ("inf" if math.isinf(value) else float(value))
 
 
-def result_record(result, inputs: dict[str, str]) -> dict:
-    """The record of a :class:`~exprclone.pipeline.CloneResult`.
+def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]:
+    """The record of a :class:`~exprclone.cloner.CloneResult`.
 
     Parameters
     ----------

@@ -303,14 +303,14 @@ class _Soundtrack:
     def __init__(self, path: PathLike, source: av.container.InputContainer, output: av.container.OutputContainer) -> None:
         audio = source.streams.audio[0]
         rate = audio.codec_context.sample_rate
-        self.rate = rate if rate in _AAC.audio_rates else 48_000
+        self.rate = rate if rate in (_AAC.audio_rates or ()) else 48_000
         self.layout = "mono" if audio.codec_context.channels == 1 else "stereo"
         self.stream = output.add_stream("aac", rate=self.rate, layout=self.layout)
         self.stream.bit_rate = AUDIO_BIT_RATE
         self.output = output
         self.path = path
         video = source.streams.video[0]
-        self.start = Fraction(video.start_time or 0) * video.time_base
+        self.start = Fraction(video.start_time or 0) * _time_base(video.time_base, path)
         self.decoded = source.decode(audio)
         self.resampler = av.AudioResampler(format="fltp", layout=self.layout, rate=self.rate)
         self.fifo = av.AudioFifo()
@@ -325,6 +325,8 @@ class _Soundtrack:
         samples = min(end - self.written, self.fifo.samples)
         if samples > 0:
             frame = self.fifo.read(samples)  # PyAV re-cuts it into the encoder's frame size
+            if frame is None:  # not reached: the FIFO holds at least ``samples``
+                return
             frame.pts, frame.time_base = self.written, Fraction(1, self.rate)
             self.output.mux(self.stream.encode(frame))
             self.written += samples
@@ -340,7 +342,7 @@ class _Soundtrack:
         except av.FFmpegError as exc:
             raise ExprCloneError(self.path, f"audio data is corrupt ({exc.strerror})") from exc
         if self.to_skip is None and decoded is not None and decoded.pts is not None:
-            lead = round((decoded.pts * decoded.time_base - self.start) * self.rate)
+            lead = round((decoded.pts * _time_base(decoded.time_base, self.path) - self.start) * self.rate)
             if lead > 0:
                 silence = av.AudioFrame.from_ndarray(
                     np.zeros((self.stream.codec_context.channels, lead), np.float32), format="fltp", layout=self.layout
@@ -413,9 +415,16 @@ def _frame_rate(path: PathLike, stream: av.video.stream.VideoStream) -> Fraction
     return Fraction(fps)
 
 
+def _time_base(time_base: Fraction | None, path: PathLike) -> Fraction:
+    """A stream's (or a frame's) time base: seconds per tick of its timestamps; FFmpeg gives every stream one."""
+    if time_base is None:
+        raise ExprCloneError(path, "a stream has no time base")
+    return time_base
+
+
 def _estimated_frames(container: av.container.InputContainer, stream: av.video.stream.VideoStream, fps: Fraction) -> int:
     """Frame count from the duration of ``stream`` (else of ``container``) times ``fps``, rounded; 0 if unknown."""
-    if stream.duration is not None:
+    if stream.duration is not None and stream.time_base is not None:
         seconds = stream.duration * stream.time_base
     elif container.duration is not None:
         seconds = Fraction(container.duration, av.time_base)

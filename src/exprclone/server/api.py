@@ -5,32 +5,34 @@ from __future__ import annotations
 import asyncio
 import base64
 import shutil
+from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
-from fastapi import APIRouter, Depends, File, Form, Query, Request, UploadFile
+from fastapi import APIRouter, Depends, File, Form, Query, UploadFile
 from fastapi.responses import FileResponse, JSONResponse, Response
 
 from .. import __version__
 from .. import data as samples
-from ..checks import check_lambda, check_options
+from ..checks import check_choices, parse_lambda
 from ..errors import ExprCloneError, naming
 from ..io.video import probe
 from ..methods import FIGURES, METHODS, lookup
-from ..options import GLOBAL_WARPS, IMAGE_WARPS, REGIONS, STRENGTH_RANGE
+from ..options import GLOBAL_WARPS, IMAGE_WARPS, REGIONS, STRENGTH_RANGE, Options
+from ..roles import ROLES, SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from . import work
+from .app import Server
 
 router = APIRouter()
 
-#: the photos of a clone, by form field (the core's names for them).
-PHOTOS = ("source_neutral", "source_expression", "target_neutral")
-LANDMARK_FIELDS = tuple(f"{field}_landmarks" for field in PHOTOS)
+#: the landmark files of a clone, by form field: each photo's role (the form field of the photo) and ``_landmarks``.
+LANDMARK_FIELDS = tuple(f"{role}_landmarks" for role in ROLES)
 #: the samples the page's "try the sample photos" fetches, by name.
-SAMPLES = {
-    "source_neutral": lambda: samples.path(samples.SOURCE),
-    "source_expression": lambda: samples.path(samples.SOURCE, "smile"),
-    "target_neutral": lambda: samples.path(samples.TARGET),
+SAMPLES: dict[str, Callable[[], Path]] = {
+    SOURCE_NEUTRAL: lambda: samples.path(samples.SOURCE),
+    SOURCE_EXPRESSION: lambda: samples.path(samples.SOURCE, "smile"),
+    TARGET_NEUTRAL: lambda: samples.path(samples.TARGET),
     "portrait": lambda: samples.path(samples.TARGET),
     "driving_video": samples.clip,
 }
@@ -62,34 +64,25 @@ async def transfer_form(
     retarget: Annotated[
         bool, Form(description="make the source's motion the target's (default); false: the paper's global and local stages")
     ] = True,
-) -> dict:
-    """The options of :class:`exprclone.options.Options` from the form, checked as the Python API checks them."""
-    asked = dict(global_warp=global_warp, image_warp=image_warp, strength=strength, only=only or None, retarget=retarget)
-    asked = {k: v for k, v in asked.items() if v is not None}
-    checked = check_options(asked, 1, (1, 1), REGIONS)
-    return {k: getattr(checked, k) for k in asked if getattr(checked, k) is not None}
+) -> work.Asked:
+    """The options of :class:`exprclone.options.Options` from the form, checked as the Python API checks them
+    (:func:`exprclone.checks.check_choices`; the given GI comes as a file, read with the target photo)."""
+    asked = Options(global_warp or GLOBAL_WARPS[0], None, image_warp, strength, tuple(only.split(",")) if only else None, retarget)
+    return work.Asked(check_choices(asked, REGIONS), global_warp is not None)
 
 
-Transfer = Annotated[dict, Depends(transfer_form)]
+Transfer = Annotated[work.Asked, Depends(transfer_form)]
 
 
-def parse_lambda(text: str) -> float | str:
-    """``auto`` or a number >= 0 (``inf`` too), else ExprCloneError about ``lambda``."""
-    if text == "auto":
-        return text
-    try:
-        return check_lambda(float(text))
-    except ValueError:
-        raise ExprCloneError("lambda", f"must be 'auto' or a number >= 0, got {text!r}") from None
-
-
-async def read_upload(upload: UploadFile | None, field: str, extensions: tuple[str, ...] = (), required: bool = True) -> work.Upload | None:
-    """An upload's content (None for an optional one not sent); for a landmark file, its kind from the extension the client
-    gave it (nothing else of a client's file name is used)."""
-    content = b"" if upload is None else await upload.read()
+async def read_optional(upload: UploadFile | None, field: str, extensions: tuple[str, ...] = ()) -> work.Upload | None:
+    """An upload's content, None when it was not sent (no part, or an empty one without a file name); for a landmark
+    file, its kind from the extension the client gave it (nothing else of a client's file name is used)."""
+    if upload is None:
+        return None
+    content = await upload.read()
     if not content:
-        if required or (upload is not None and upload.filename):
-            raise ExprCloneError(field, "missing" if upload is None or not upload.filename else "the file is empty")
+        if upload.filename:
+            raise ExprCloneError(field, "the file is empty")
         return None
     extension = Path(upload.filename or "").suffix.lower()
     if extensions and extension not in extensions:
@@ -97,19 +90,33 @@ async def read_upload(upload: UploadFile | None, field: str, extensions: tuple[s
     return work.Upload(field, content, extension)
 
 
+async def read_upload(upload: UploadFile | None, field: str) -> work.Upload:
+    """An upload that must be sent (:func:`read_optional`), or ExprCloneError: ``missing``."""
+    found = await read_optional(upload, field)
+    if found is None:
+        raise ExprCloneError(field, "missing")
+    return found
+
+
 async def clone_request(
-    request: Request, method: str, lambda_text: str, mouth: bool, uploads: dict, transfer: dict, figure: str = FIGURES[0]
+    server: Server,
+    method: str,
+    lambda_text: str,
+    mouth: bool,
+    uploads: dict[str, UploadFile | None],
+    transfer: work.Asked,
+    figure: str = FIGURES[0],
 ) -> work.CloneRequest:
     """The checked request: the method known, lambda valid, the options checked, three photos and any landmark files read."""
     lookup((method,))
     lambda_k = parse_lambda(lambda_text)
     if figure not in FIGURES:
         raise ExprCloneError("figure", f"must be {' or '.join(FIGURES)}, got {figure!r}")
-    photos = tuple([await read_upload(uploads[field], field) for field in PHOTOS])
-    marks = tuple([await read_upload(uploads[field], field, LANDMARK_EXTENSIONS, required=False) for field in LANDMARK_FIELDS])
-    given = await read_upload(uploads["global_landmarks"], "global_landmarks", LANDMARK_EXTENSIONS, required=False)
-    max_pixels = request.app.state.work.settings.max_pixels
-    return work.CloneRequest(photos, marks, method, lambda_k, mouth, max_pixels, transfer, given, figure)
+    sn, se, tn = [await read_upload(uploads[role], role) for role in ROLES]
+    marks = [await read_optional(uploads[field], field, LANDMARK_EXTENSIONS) for field in LANDMARK_FIELDS]
+    given = await read_optional(uploads["global_landmarks"], "global_landmarks", LANDMARK_EXTENSIONS)
+    max_pixels = server.settings.max_pixels
+    return work.CloneRequest((sn, se, tn), (marks[0], marks[1], marks[2]), method, lambda_k, mouth, max_pixels, transfer, given, figure)
 
 
 @router.get("/", include_in_schema=False)
@@ -123,7 +130,7 @@ async def live_page() -> FileResponse:
 
 
 @router.get("/api/health")
-async def health() -> dict:
+async def health() -> dict[str, str]:
     """The server is up: ``{"status": "ok", "version": ...}``."""
     return {"status": "ok", "version": __version__}
 
@@ -139,10 +146,11 @@ async def sample(name: str) -> FileResponse:
 
 
 @router.post("/api/landmarks")
-async def landmarks(request: Request, photo: Photo) -> dict:
+async def landmarks(server: Server, photo: Photo) -> dict[str, Any]:
     """The landmarks detected on a photo: ``{"width", "height", "landmarks": [[x, y], ...]}`` (68 points)."""
     upload = await read_upload(photo, "photo")
-    return await request.app.state.work.run(work.landmarks, upload, request.app.state.work.settings.max_pixels)
+    found: dict[str, Any] = await server.run(work.landmarks, upload, server.settings.max_pixels)
+    return found
 
 
 async def clone_uploads(
@@ -153,32 +161,33 @@ async def clone_uploads(
     source_expression_landmarks: Landmarks = None,
     target_neutral_landmarks: Landmarks = None,
     global_landmarks: GlobalLandmarks = None,
-) -> dict:
+) -> dict[str, UploadFile | None]:
     """The files of ``/api/clone`` and ``/api/compare`` by field name: three photos, their optional landmark files, the given GI."""
-    uploads = dict(zip(PHOTOS, (source_neutral, source_expression, target_neutral)), global_landmarks=global_landmarks)
+    uploads: dict[str, UploadFile | None] = dict(zip(ROLES, (source_neutral, source_expression, target_neutral)))
     uploads.update(zip(LANDMARK_FIELDS, (source_neutral_landmarks, source_expression_landmarks, target_neutral_landmarks)))
+    uploads["global_landmarks"] = global_landmarks
     return uploads
 
 
-Uploads = Annotated[dict, Depends(clone_uploads)]
+Uploads = Annotated[dict[str, UploadFile | None], Depends(clone_uploads)]
 
 
 @router.post("/api/clone", responses={200: {"content": {"image/png": {}}, "description": "the result, at the target photo's size"}})
 async def clone(
-    request: Request,
+    server: Server,
     uploads: Uploads,
+    transfer: Transfer,
     method: Method = "e+md",
     lambda_text: Lambda = "auto",
     mouth: Mouth = True,
-    transfer: Transfer = None,
     format: Annotated[str, Query(pattern="^(png|json)$", description="png (default), or json: the record with the PNG as base64")] = "png",
-):
+) -> Response:
     """The source's expression on the target: PNG, or with ``?format=json`` the JSON record of ``--save-json`` plus ``png`` (base64).
 
     ``global_warp``, ``image_warp``, ``strength``, ``only``, ``retarget`` and ``global_landmarks`` are the options of
     ``exprclone clone``."""
-    asked = await clone_request(request, method, lambda_text, mouth, uploads, transfer)
-    png, record = await request.app.state.work.run(work.clone, asked)
+    asked = await clone_request(server, method, lambda_text, mouth, uploads, transfer)
+    png, record = await server.run(work.clone, asked)
     if format == "json":
         return JSONResponse({**record, "png": base64.b64encode(png).decode()})
     return Response(png, media_type="image/png")
@@ -186,19 +195,19 @@ async def clone(
 
 @router.post("/api/compare", responses={200: {"content": {"image/png": {}}, "description": "the sheet of Figs. 11-13"}})
 async def compare(
-    request: Request,
+    server: Server,
     uploads: Uploads,
+    transfer: Transfer,
     lambda_text: Lambda = "auto",
     mouth: Mouth = True,
-    transfer: Transfer = None,
     figure: Annotated[
         str, Form(description="11: Figs. 11-13 and the DB curve; 19: the elastic model on the RBF result (Figs. 19-21)")
     ] = FIGURES[0],
-):
+) -> Response:
     """Every method of Fig. 11, the difference images of Figs. 12-13 and the DB curve, as one PNG sheet; or Figs. 19-21
     (``figure=19``: the elastic model on the RBF transfer's result, or on ``global_landmarks``)."""
-    asked = await clone_request(request, "e+md", lambda_text, mouth, uploads, transfer, figure)
-    sheet = await request.app.state.work.run(work.compare, asked)
+    asked = await clone_request(server, "e+md", lambda_text, mouth, uploads, transfer, figure)
+    sheet = await server.run(work.compare, asked)
     return Response(sheet, media_type="image/png")
 
 
@@ -213,9 +222,10 @@ def neutral_frame(text: str) -> int | str | None:
 
 @router.post("/api/video", status_code=202)
 async def video(
-    request: Request,
+    server: Server,
     portrait: Photo,
     driving_video: Annotated[UploadFile, File(description="a video of the source person (any format FFmpeg reads)")],
+    transfer: Transfer,
     method: Method = "e+md",
     lambda_text: Lambda = "auto",
     mouth: Mouth = True,
@@ -225,44 +235,39 @@ async def video(
     ] = "closed",
     side_by_side: Annotated[bool, Form(description="the driving video beside the result")] = False,
     head_motion: Annotated[bool, Form(description="carry the source's head motion over")] = False,
-    transfer: Transfer = None,
-) -> dict:
+) -> dict[str, str]:
     """Start a video job: ``202 {"id", "status", "result"}``; follow it at ``/api/jobs/{id}``.
 
     ``global_warp``, ``image_warp``, ``strength``, ``only`` and ``retarget`` are the options of ``exprclone video``."""
-    options = dict(method=lookup((method,))[0].name, lambda_k=parse_lambda(lambda_text), neutral_frame=neutral_frame(neutral))
-    options.update(mouth=mouth, head_motion=head_motion, **transfer)
+    driving = work.Driving(lookup((method,))[0].name, parse_lambda(lambda_text), neutral_frame(neutral), mouth, head_motion)
     photo = await read_upload(portrait, "portrait")
-    state = request.app.state.work
-    await state.run(work.landmarks, photo, state.settings.max_pixels)  # a portrait without a face fails now, not in the job
-    job = state.jobs.create()
+    await server.run(work.landmarks, photo, server.settings.max_pixels)  # a portrait without a face fails now, not in the job
+    job = server.jobs.create()
     try:
         with job.video.open("wb") as out:
             await asyncio.to_thread(shutil.copyfileobj, driving_video.file, out)
         with naming({str(job.video): "driving_video"}):
             await asyncio.to_thread(probe, job.video)  # a file that is not a video fails now, not in the job
-        task = work.VideoRequest(
-            photo, str(job.video), str(job.result), str(job.progress_file), options, size, side_by_side, state.settings.max_pixels
-        )
-        state.jobs.start(job, state.video_pool.submit(work.video, task))
+        files = (str(job.video), str(job.result), str(job.progress_file))
+        task = work.VideoRequest(photo, *files, driving, transfer.options, size, side_by_side, server.settings.max_pixels)
+        server.jobs.start(job, server.video_pool.submit(work.video, task))
     except BaseException:
-        state.jobs.discard(job)
+        server.jobs.discard(job)
         raise
     return {"id": job.id, "status": f"/api/jobs/{job.id}", "result": f"/api/jobs/{job.id}/result"}
 
 
 @router.get("/api/jobs/{job_id}")
-async def job_state(request: Request, job_id: str) -> dict:
+async def job_state(server: Server, job_id: str) -> dict[str, Any]:
     """A job's ``state`` (queued, running, done, failed), ``progress`` (0 to 1), ``error`` and, once done, ``info``."""
-    state = request.app.state.work.jobs
-    state.expire()
-    return state.get(job_id).state()
+    server.jobs.expire()
+    return server.jobs.get(job_id).state()
 
 
-@router.get("/api/jobs/{job_id}/result", responses={200: {"content": {"video/mp4": {}}}})
-async def job_result(request: Request, job_id: str) -> FileResponse:
-    """The job's MP4, once it is done (409 before)."""
-    job = request.app.state.work.jobs.get(job_id)
+@router.get("/api/jobs/{job_id}/result", responses={200: {"content": {"video/mp4": {}}}, 409: {"description": "not done yet"}})
+async def job_result(server: Server, job_id: str) -> Response:
+    """The job's MP4 (a :class:`~fastapi.responses.FileResponse`) once it is done; 409 with ``{"error"}`` before."""
+    job = server.jobs.get(job_id)
     state = job.state()
     if state["state"] != "done":
         return JSONResponse(

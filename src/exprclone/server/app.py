@@ -9,24 +9,28 @@ photo or video without a face, 503 (with ``Retry-After``) when the work queue is
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import logging
 import multiprocessing
 import os
 import shutil
 import tempfile
+from collections.abc import AsyncIterator, Callable
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from typing import Annotated, Any, TypeVar
 
-from fastapi import FastAPI, Request
+from fastapi import Depends, FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
 from starlette.exceptions import HTTPException
+from starlette.requests import HTTPConnection
 
 from .. import __version__
 from ..errors import ExprCloneError, NoFaceError
@@ -35,6 +39,7 @@ from .jobs import Jobs, NoSuchJob
 from .limits import RETRY_AFTER, Busy, Gate, UploadLimit
 
 log = logging.getLogger("exprclone.server")
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
@@ -96,10 +101,8 @@ class Work:
         for future in [self.pool.submit(work.ready) for _ in range(self.settings.workers)]:
             future.result()
 
-    async def run(self, function, *args):
+    async def run(self, function: Callable[..., T], *args: Any) -> T:
         """``function(*args)`` in a clone worker, past the gate; a broken pool is replaced and the request refused (503)."""
-        import asyncio
-
         with self.gate:
             try:
                 return await asyncio.get_running_loop().run_in_executor(self.pool, function, *args)
@@ -116,7 +119,17 @@ class Work:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
-def _error(status: int, message: str, headers: dict | None = None) -> JSONResponse:
+def the_server(connection: HTTPConnection) -> Work:
+    """The server's state (:class:`Work`, made when it starts), for a route or a WebSocket: a FastAPI dependency."""
+    work: Work = connection.app.state.work
+    return work
+
+
+#: a route's parameter for the server's state (:func:`the_server`).
+Server = Annotated[Work, Depends(the_server)]
+
+
+def _error(status: int, message: str, headers: dict[str, str] | None = None) -> JSONResponse:
     return JSONResponse({"error": message}, status_code=status, headers=headers)
 
 
@@ -148,7 +161,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     settings = settings or Settings()
 
     @contextlib.asynccontextmanager
-    async def lifespan(app: FastAPI):
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         app.state.work = Work(settings)
         app.state.work.warm_up()
         try:

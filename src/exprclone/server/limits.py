@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 
+from starlette.types import ASGIApp, Message, Receive, Scope, Send
+
 #: seconds a client is told to wait (``Retry-After``) when the work queue is full.
 RETRY_AFTER = 2
 
@@ -27,11 +29,11 @@ class Gate:
         self.inside += 1
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.inside -= 1
 
 
-async def _answer(send, status: int, error: str) -> None:
+async def _answer(send: Send, status: int, error: str) -> None:
     body = json.dumps({"error": error}).encode()
     headers = [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode())]
     await send({"type": "http.response.start", "status": status, "headers": headers})
@@ -47,19 +49,19 @@ class UploadLimit:
     the body (its own answer, if any, is dropped).
     """
 
-    def __init__(self, app, max_bytes: int) -> None:
+    def __init__(self, app: ASGIApp, max_bytes: int) -> None:
         self.app, self.max_bytes = app, max_bytes
         self.error = f"upload too large: at most {max_bytes / 2**20:g} MB per request"
 
-    async def __call__(self, scope, receive, send) -> None:
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
             return await self.app(scope, receive, send)
         declared = dict(scope["headers"]).get(b"content-length")
         if declared is not None and declared.isdigit() and int(declared) > self.max_bytes:
             return await _answer(send, 413, self.error)
-        state = {"received": 0, "over": False, "answered": False}
+        state: dict[str, int | bool] = {"received": 0, "over": False, "answered": False}
 
-        async def counted():
+        async def counted() -> Message:
             message = await receive()
             state["received"] += len(message.get("body", b""))
             if state["received"] > self.max_bytes:
@@ -67,7 +69,7 @@ class UploadLimit:
                 raise OverLimit
             return message
 
-        async def guarded(message):
+        async def guarded(message: Message) -> None:
             if not state["over"]:
                 return await send(message)
             if not state["answered"] and message["type"] == "http.response.start":

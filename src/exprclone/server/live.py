@@ -9,8 +9,13 @@ camera frame goes as a binary message: a 4-byte big-endian sequence number and a
 ``{"type": "neutral"}`` re-captures the neutral face from the next frame;
 ``{"type": "options", "method", "mouth"}`` changes the method (and with ``strength`` or
 ``only``, what is transferred: the same neutral face, prepared again). ``{"type": "status",
-"face", "neutral", "lambda_k"}`` says when the face is lost or found, and when the
-neutral face is captured.
+"face", "neutral", "lambda_k"}`` says when the face is lost or found, when the
+neutral face is captured, and when lambda_k is chosen.
+
+lambda_k "auto" is chosen once, by the DB metric, on the first frame whose expression
+is clearly strong (:data:`LAMBDA_STRENGTH`); until then the status says ``"auto"`` and
+the elastic model runs with ``lambda_k = 0``, which gives the global positions GI
+(:class:`Session`).
 
 No backlog: the server keeps only the newest frame of a connection, and drops the
 older ones unanswered (the page sends the next frame once an answer arrives, with a
@@ -25,18 +30,23 @@ import json
 import struct
 import time
 from concurrent.futures import ThreadPoolExecutor
+from typing import Any, NamedTuple
 
 import cv2
 import numpy as np
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 
 from .. import drive, tracking
-from ..checks import check_lambda, check_options
+from ..checks import check_choices, check_lambda, options_from, parse_lambda
+from ..cloner import Cloner
 from ..errors import ExprCloneError
+from ..io.frames import resize_portrait
 from ..layout import DLIB68
 from ..methods import lookup
+from ..models import default_detector
 from ..mouth import opening
-from .api import parse_lambda
+from ..options import Options
+from .app import Server
 
 router = APIRouter()
 
@@ -66,8 +76,22 @@ def encode_jpeg(image: np.ndarray) -> bytes:
     return cv2.imencode(".jpg", cv2.cvtColor(image, cv2.COLOR_RGB2BGR), [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])[1].tobytes()
 
 
+class Window(NamedTuple):
+    """The neutral face's capture so far: when it started, and the frame with the most closed mouth."""
+
+    start: float
+    opening: float
+    frame: np.ndarray
+    points: np.ndarray
+
+
 class Session:
     """One camera following one portrait: the state of one connection, used from one thread.
+
+    Until lambda_k "auto" is chosen, once, on the first clearly expressive frame
+    (:data:`LAMBDA_STRENGTH`), the elastic model runs with ``lambda_k = 0``, which gives
+    GI (Eq. 6 with the springs to the local positions slack): a neutral or faint
+    expression looks the same either way, and the DB metric is not run on every frame.
 
     Parameters
     ----------
@@ -76,59 +100,57 @@ class Session:
         As for :class:`exprclone.drive.Driver`; ``lambda_k="auto"`` is chosen once (:data:`LAMBDA_STRENGTH`).
     size : int
         The output's longest side.
-    transfer : dict, optional
-        Options of :class:`exprclone.options.Options` (:data:`TRANSFER`) for the prepared faces.
+    transfer : Options, optional
+        The :class:`~exprclone.options.Options` (:data:`TRANSFER`) of the prepared faces; the defaults if None.
     """
 
     def __init__(
-        self, portrait: np.ndarray, method: str, mouth: bool, lambda_k: float | str, size: int, transfer: dict | None = None
+        self, portrait: np.ndarray, method: str, mouth: bool, lambda_k: float | str, size: int, transfer: Options | None = None
     ) -> None:
-        from ..pipeline import default_detector
-
         self.method, self.mouth, self.lambda_k = lookup((method,))[0].name, mouth, check_lambda(lambda_k)
         self.detector = default_detector()
-        self.portrait, _ = drive.resize_portrait(portrait, None, size)
-        self.transfer = self._checked(transfer or {})
+        self.portrait, _ = resize_portrait(portrait, None, size)
+        self.transfer = self._checked(transfer or Options())
         self.portrait_points = self.detector.detect(self.portrait, "portrait")
         self.tracker, self.filter = tracking.Tracker(self.detector), tracking.OneEuro()
         self.last = self.portrait
-        self.recapture()
+        #: the neutral face's capture (:meth:`recapture`), and the faces prepared once it is captured.
+        self.driver: drive.Driver | None = None
+        self.chosen: float | str = self.lambda_k
+        self.window: Window | None = None
+        self.now = False
 
     def recapture(self, now: bool = False) -> None:
         """Capture the neutral face again: from the next frame with a face (``now``), or the most closed mouth of the next second."""
-        self.driver: drive.Driver | None = None
-        self.chosen: float | str = self.lambda_k
-        self.window: tuple[float, float, np.ndarray, np.ndarray] | None = None  # (start, opening, frame, points) of the best so far
-        self.now = now
+        self.driver, self.chosen, self.window, self.now = None, self.lambda_k, None, now
 
-    def _checked(self, transfer: dict) -> dict:
-        """The transfer options, checked on the portrait as a :class:`~exprclone.pipeline.Cloner` would (ExprCloneError)."""
-        check_options(transfer, DLIB68.n_points, self.portrait.shape, tuple(DLIB68.regions))
-        return transfer
+    def _checked(self, transfer: Options) -> Options:
+        """The transfer options, checked as a :class:`~exprclone.cloner.Cloner` checks them (ExprCloneError)."""
+        return check_choices(transfer, tuple(DLIB68.regions))
 
-    def options(self, method: str, mouth: bool, transfer: dict | None = None) -> None:
+    def options(self, method: str, mouth: bool, transfer: Options | None = None) -> None:
         """Another method or mouth setting, for the same faces; other transfer options prepare the same faces again."""
         self.method, self.mouth = lookup((method,))[0].name, mouth
-        changed = transfer is not None and transfer != self.transfer
-        if changed:
-            self.transfer = self._checked(transfer)
-        if self.driver is not None:
-            cloner = self._cloner() if changed else self.driver.cloner
+        checked = None if transfer is None else self._checked(transfer)
+        changed = checked is not None and any(getattr(checked, key) != getattr(self.transfer, key) for key in TRANSFER)
+        if checked is not None:
+            self.transfer = checked
+        if self.driver is not None and self.window is not None:
+            cloner = self._cloner(self.window) if changed else self.driver.cloner
             self.driver = drive.Driver(cloner, self.method, self._lambda_for_driver(), mouth=self.mouth)
 
-    def _cloner(self):
+    def _cloner(self, window: Window) -> Cloner:
         """The camera's neutral face (the window's frame) and the portrait, prepared with the transfer options."""
-        from ..pipeline import Cloner
-
-        return Cloner(self.window[2], self.window[3], self.portrait, self.portrait_points, **self.transfer)
+        return Cloner(window.frame, window.points, self.portrait, self.portrait_points, options=self.transfer)
 
     def _lambda_for_driver(self) -> float:
+        """lambda_k for the driver: 0 (GI) until "auto" is chosen (see the class's notes), else the number asked or chosen."""
         return 0.0 if self.chosen == "auto" else float(self.chosen)
 
-    def status(self, face: bool) -> dict:
+    def status(self, face: bool) -> dict[str, Any]:
         return {"type": "status", "face": face, "neutral": self.driver is not None, "lambda_k": self.chosen}
 
-    def process(self, content: bytes, t: float) -> tuple[bytes, dict]:
+    def process(self, content: bytes, t: float) -> tuple[bytes, dict[str, Any]]:
         """The output frame, as JPEG, for a camera frame (JPEG) arriving at ``t`` seconds; and the session's status."""
         frame = decode_jpeg(content)
         points = self.tracker.update(frame)
@@ -139,29 +161,30 @@ class Session:
         if self.driver is None:
             self._capture(frame, points, t)
         else:
-            self._choose_lambda(frame, points)
-            self.last = self.driver.render(frame, points).image
+            driver = self._choose_lambda(self.driver, frame, points)
+            self.last = driver.render(frame, points).image
         return encode_jpeg(self.last), self.status(True)
 
     def _capture(self, frame: np.ndarray, points: np.ndarray, t: float) -> None:
         """Keep the frame with the most closed mouth; at the end of the window (or at once, if asked) it is the neutral face."""
         closed = opening(points, DLIB68)
-        if self.window is None or closed < self.window[1]:
-            self.window = (self.window[0] if self.window else t, closed, frame, points)
-        if self.now or t - self.window[0] >= NEUTRAL_SECONDS:
-            self.driver = drive.Driver(self._cloner(), self.method, self._lambda_for_driver(), mouth=self.mouth)
+        if self.window is None or closed < self.window.opening:
+            self.window = Window(self.window.start if self.window else t, closed, frame, points)
+        if self.now or t - self.window.start >= NEUTRAL_SECONDS:
+            self.driver = drive.Driver(self._cloner(self.window), self.method, self._lambda_for_driver(), mouth=self.mouth)
 
-    def _choose_lambda(self, frame: np.ndarray, points: np.ndarray) -> None:
-        """lambda_k "auto": chosen once by the DB metric, on the first clearly expressive frame."""
+    def _choose_lambda(self, driver: drive.Driver, frame: np.ndarray, points: np.ndarray) -> drive.Driver:
+        """lambda_k "auto": chosen once by the DB metric, on the first clearly expressive frame; the driver to use."""
         if self.chosen != "auto" or not lookup((self.method,))[0].uses_lambda:
-            return
-        cloner = self.driver.cloner
+            return driver
+        cloner = driver.cloner
         if drive.expression_strength(cloner.s_neu, points[None], cloner.layout)[0] >= LAMBDA_STRENGTH:
             self.chosen = drive.choose_lambda(cloner, [frame], [points])
-            self.driver = drive.Driver(cloner, self.method, self.chosen, mouth=self.mouth)
+            self.driver = driver = drive.Driver(cloner, self.method, self.chosen, mouth=self.mouth)
+        return driver
 
 
-async def _start(websocket: WebSocket, executor: ThreadPoolExecutor) -> Session:
+async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, max_pixels: int) -> Session:
     """Read the start message and the portrait; prepare the session (in its thread)."""
     from ..io.images import load_image
 
@@ -172,7 +195,6 @@ async def _start(websocket: WebSocket, executor: ThreadPoolExecutor) -> Session:
     if size not in SIZES:
         raise ExprCloneError("size", f"must be one of {', '.join(map(str, SIZES))}, got {size!r}")
     portrait = await websocket.receive_bytes()
-    max_pixels = websocket.app.state.work.settings.max_pixels
     options = (start.get("method", "e+md"), bool(start.get("mouth", True)), parse_lambda(str(start.get("lambda", "auto"))), size)
     loop = asyncio.get_running_loop()
     return await loop.run_in_executor(
@@ -180,28 +202,27 @@ async def _start(websocket: WebSocket, executor: ThreadPoolExecutor) -> Session:
     )
 
 
-def transfer_of(message: dict) -> dict:
-    """The transfer options a message gives (:data:`TRANSFER`; a list of regions as a tuple)."""
+def transfer_of(message: dict[str, Any]) -> Options:
+    """The transfer options a message gives (:data:`TRANSFER`; a list of regions as a tuple), the others the defaults."""
     given = {key: message[key] for key in TRANSFER if message.get(key) is not None}
     if isinstance(given.get("only"), list):
         given["only"] = tuple(given["only"])
-    return given
+    return options_from(None, given)
 
 
 @router.websocket("/api/live")
-async def live(websocket: WebSocket) -> None:
+async def live(websocket: WebSocket, server: Server) -> None:
     """A live session (the protocol is in the module's notes)."""
     await websocket.accept()
-    work = websocket.app.state.work
-    if work.live_sessions >= work.settings.max_live:
+    if server.live_sessions >= server.settings.max_live:
         await websocket.send_json(
-            {"type": "error", "error": f"live: {work.settings.max_live} sessions are running already; try again later"}
+            {"type": "error", "error": f"live: {server.settings.max_live} sessions are running already; try again later"}
         )
         return await websocket.close()
-    work.live_sessions += 1
+    server.live_sessions += 1
     executor = ThreadPoolExecutor(1, thread_name_prefix="live")
     try:
-        session = await _start(websocket, executor)
+        session = await _start(websocket, executor, server.settings.max_pixels)
         await websocket.send_json({"type": "ready", "width": session.portrait.shape[1], "height": session.portrait.shape[0]})
         await _follow(websocket, session, executor)
     except ExprCloneError as e:
@@ -210,7 +231,7 @@ async def live(websocket: WebSocket) -> None:
     except WebSocketDisconnect:
         pass
     finally:
-        work.live_sessions -= 1
+        server.live_sessions -= 1
         executor.shutdown(wait=False, cancel_futures=True)
 
 
@@ -261,7 +282,7 @@ async def _follow(websocket: WebSocket, session: Session, executor: ThreadPoolEx
             task.cancel()
 
 
-def _parse(text: str) -> dict:
+def _parse(text: str) -> dict[str, Any]:
     """A text message: a JSON object, or ExprCloneError about ``live``."""
     try:
         message = json.loads(text)

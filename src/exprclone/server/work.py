@@ -13,11 +13,17 @@ import json
 import os
 import warnings
 from collections import OrderedDict
-from dataclasses import dataclass, field
+from collections.abc import Iterator
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import naming
+from ..options import Options
+
+if TYPE_CHECKING:
+    from ..drive import Recording
 
 #: photos whose landmarks a worker remembers.
 LANDMARK_CACHE = 256
@@ -38,11 +44,20 @@ class Upload:
 
 
 @dataclass(frozen=True)
+class Asked:
+    """The options a form asks for: :class:`~exprclone.options.Options` (checked, but the given GI, which comes as a
+    file), and whether it named a global warp (Fig. 19 shows the RBF transfer's unless it did)."""
+
+    options: Options = Options()
+    global_warp: bool = False
+
+
+@dataclass(frozen=True)
 class CloneRequest:
     """What ``POST /api/clone`` and ``/api/compare`` ask: three photos, optional landmark files, the options.
 
-    ``transfer`` holds the options of :class:`exprclone.options.Options` but the given
-    landmarks, which come as a file (``global_landmarks``); ``figure`` is the compare sheet's.
+    ``transfer`` holds the options but the given landmarks, which come as a file
+    (``global_landmarks``); ``figure`` is the compare sheet's.
     """
 
     photos: tuple[Upload, Upload, Upload]
@@ -51,25 +66,33 @@ class CloneRequest:
     lambda_k: float | str = "auto"
     mouth: bool = True
     max_pixels: int | None = None
-    transfer: dict = field(default_factory=dict)
+    transfer: Asked = Asked()
     global_landmarks: Upload | None = None
     figure: str = "11"
 
 
 @dataclass(frozen=True)
-class VideoRequest:
-    """What ``POST /api/video`` asks: a portrait, a driving video (saved in the job's folder), where to write, the options.
+class Driving:
+    """How a video job drives the portrait: the arguments of :func:`exprclone.drive.prepare` of that name."""
 
-    ``options`` go to :func:`exprclone.drive.prepare` (``method``, ``lambda_k``,
-    ``neutral_frame``, ``mouth``, ``head_motion``, ``smooth``, and those of
-    :class:`exprclone.options.Options`).
-    """
+    method: str = "e+md"
+    lambda_k: float | str = "auto"
+    neutral_frame: int | str | None = "closed"
+    mouth: bool = True
+    head_motion: bool = False
+
+
+@dataclass(frozen=True)
+class VideoRequest:
+    """What ``POST /api/video`` asks: a portrait, a driving video (saved in the job's folder), where to write, how to
+    drive the portrait (:class:`Driving`) and clone each frame (:class:`~exprclone.options.Options`), the output's form."""
 
     portrait: Upload
     video: str
     output: str
     progress: str
-    options: dict = field(default_factory=dict)
+    driving: Driving = Driving()
+    options: Options = Options()
     size: int | None = 512
     side_by_side: bool = False
     max_pixels: int | None = None
@@ -77,7 +100,7 @@ class VideoRequest:
 
 def load_models() -> None:
     """A worker's initializer: load the detector and the eigenface basis now, not on its first request."""
-    from ..pipeline import default_detector, default_eigenfaces
+    from ..models import default_detector, default_eigenfaces
 
     default_detector()._load()
     default_eigenfaces()
@@ -97,7 +120,7 @@ def _image(upload: Upload, max_pixels: int | None) -> np.ndarray:
 
 def _detected(upload: Upload, image: np.ndarray) -> np.ndarray:
     """The landmarks of an uploaded photo: remembered, or detected (and remembered)."""
-    from ..pipeline import default_detector
+    from ..models import default_detector
 
     digest = hashlib.sha256(upload.content).hexdigest()
     if digest in _seen:
@@ -109,7 +132,7 @@ def _detected(upload: Upload, image: np.ndarray) -> np.ndarray:
     return _seen[digest]
 
 
-def landmarks(upload: Upload, max_pixels: int | None = None) -> dict:
+def landmarks(upload: Upload, max_pixels: int | None = None) -> dict[str, Any]:
     """``POST /api/landmarks``: the detected landmarks of a photo and its size, ``{"width", "height", "landmarks"}``."""
     image = _image(upload, max_pixels)
     return {"width": image.shape[1], "height": image.shape[0], "landmarks": np.round(_detected(upload, image), 2).tolist()}
@@ -122,27 +145,29 @@ def _landmark_file(upload: Upload, shape: tuple[int, ...]) -> np.ndarray:
     return parse_landmarks(upload.content.decode("utf-8-sig", errors="replace"), upload.extension, shape, name=upload.field)
 
 
-def _inputs(request: CloneRequest) -> tuple[list[np.ndarray], tuple[np.ndarray, ...], dict]:
+def _inputs(request: CloneRequest) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray], Options]:
     """The three photos decoded, their landmarks (from the landmark file given, else detected), and the clone's
     options (with the given GI read from its file)."""
-    images = [_image(p, request.max_pixels) for p in request.photos]
-    points = []
-    for photo, image, given in zip(request.photos, images, request.landmarks):
-        points.append(_detected(photo, image) if given is None else _landmark_file(given, image.shape))
-    options = dict(request.transfer, lambda_k=request.lambda_k, landmarks=tuple(points), mouth=request.mouth)
+    sn, se, tn = (_image(p, request.max_pixels) for p in request.photos)
+    images = (sn, se, tn)
+    points = tuple(
+        _detected(photo, image) if given is None else _landmark_file(given, image.shape)
+        for photo, image, given in zip(request.photos, images, request.landmarks)
+    )
+    options = request.transfer.options
     if request.global_landmarks is not None:
-        options["global_landmarks"] = _landmark_file(request.global_landmarks, images[2].shape)
-    return images, tuple(points), options
+        options = replace(options, global_landmarks=_landmark_file(request.global_landmarks, images[2].shape))
+    return images, (points[0], points[1], points[2]), options
 
 
-def clone(request: CloneRequest) -> tuple[bytes, dict]:
+def clone(request: CloneRequest) -> tuple[bytes, dict[str, Any]]:
     """``POST /api/clone``: the result as PNG, and its JSON record (:func:`exprclone.io.record.result_record`)."""
     from ..io.images import encode_image
     from ..io.record import result_record
     from ..pipeline import clone as clone_photos
 
-    images, _, options = _inputs(request)
-    result = clone_photos(*images, method=request.method, **options)
+    images, points, options = _inputs(request)
+    result = clone_photos(*images, request.method, request.lambda_k, points, mouth=request.mouth, options=options)
     return encode_image(result.image, ".png"), result_record(result, {p.field: p.field for p in request.photos})
 
 
@@ -152,12 +177,13 @@ def compare(request: CloneRequest) -> bytes:
     from ..io.images import encode_image
     from ..pipeline import clone_methods
 
-    images, _, options = _inputs(request)
-    methods, options = figure_request(request.figure, options)
-    return encode_image(draw(request.figure, clone_methods(*images, methods, **options), images), ".png")
+    images, points, options = _inputs(request)
+    methods, options = figure_request(request.figure, options, request.transfer.global_warp)
+    results = clone_methods(*images, methods, request.lambda_k, points, mouth=request.mouth, options=options)
+    return encode_image(draw(request.figure, results, images), ".png")
 
 
-def video(request: VideoRequest) -> dict:
+def video(request: VideoRequest) -> dict[str, Any]:
     """``POST /api/video``: the portrait driven by the video, written to ``request.output``, progress to ``request.progress``.
 
     Returns
@@ -167,11 +193,24 @@ def video(request: VideoRequest) -> dict:
     """
     from .. import drive
     from ..io import video as video_io
+    from ..io.frames import resize_portrait
 
+    d = request.driving
     with naming({request.video: "driving_video", request.output: "result"}):
-        portrait, _ = drive.resize_portrait(_image(request.portrait, request.max_pixels), None, request.size)
+        portrait, _ = resize_portrait(_image(request.portrait, request.max_pixels), None, request.size)
         fps = video_io.probe(request.video).fps
-        recording = drive.prepare(portrait, None, lambda: video_io.read_frames(request.video), float(fps), **request.options)
+        recording = drive.prepare(
+            portrait,
+            None,
+            lambda: video_io.read_frames(request.video),
+            float(fps),
+            neutral_frame=d.neutral_frame,
+            method=d.method,
+            lambda_k=d.lambda_k,
+            head_motion=d.head_motion,
+            mouth=d.mouth,
+            options=request.options,
+        )
         frames = _reporting(recording, video_io.read_frames(request.video), request)
         written = video_io.write_video(request.output, frames, fps, audio_from=request.video)
     lam = recording.driver.lambda_k
@@ -183,9 +222,9 @@ def video(request: VideoRequest) -> dict:
     }
 
 
-def _reporting(recording, frames, request: VideoRequest):
+def _reporting(recording: Recording, frames: Iterator[np.ndarray], request: VideoRequest) -> Iterator[np.ndarray]:
     """The rendered frames, the progress file updated every :data:`PROGRESS_EVERY` of them."""
-    from .. import drive
+    from ..io.frames import side_by_side
     from ..io.images import atomic_write
 
     total = len(recording.points)
@@ -193,4 +232,4 @@ def _reporting(recording, frames, request: VideoRequest):
         if done % PROGRESS_EVERY == 0 or done == total:
             report = json.dumps({"done": done, "total": total}).encode()
             atomic_write(request.progress, lambda out: out.write(report))
-        yield drive.side_by_side(f.driving, f.image) if request.side_by_side else f.image
+        yield side_by_side(f.driving, f.image) if request.side_by_side else f.image

@@ -1,0 +1,244 @@
+"""``exprclone evaluate``'s runner: every method on many cross-person pairs, scored against real smiles.
+
+For an ordered pair (A, B) of different people, A's neutral-to-smile change is cloned
+onto B's neutral photo by every method, and each result is scored against B's own real
+smile (:mod:`exprclone.evaluation.scores`). Two references share the table: ``no change`` (B's
+neutral photo taken as the result: the floor) and ``real`` (B's real smile: the
+ceiling, zero landmark error by construction, its identity distance the natural one).
+
+Every row also says how much tooth shows in its image and in A's real smile
+(:func:`exprclone.evaluation.scores.teeth`): of the pairs whose source shows teeth, the
+summary gives the share of results that show teeth too, and of the others, the share
+that shows teeth where the source showed none.
+
+Each row says how strongly the target smiles (:func:`smile_strength`), so that the
+statistics (:mod:`exprclone.evaluation.statistics`) can be given for the strong smiles
+alone; :mod:`exprclone.evaluation.report` writes them out.
+
+Variants: every method may also run with other options of the clone (another global
+warp, the TPS image warp, another strength, the paper's stages without retargeting;
+:func:`variants`), its rows named after the method and the variant (``e+md [rbf]``,
+``e+md [no retarget]``). Each row's paired mouth difference is to global
+warping in the same variant (is the elastic model better than the GI it starts from?),
+and :func:`exprclone.evaluation.statistics.contrasts` pairs each method in a variant with
+the same method in the default setting (is the RBF transfer better than the similarity
+one? does retargeting help?).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import itertools
+import multiprocessing
+import time
+import warnings
+from typing import Any
+
+import numpy as np
+
+from .. import geometry, global_warp
+from ..cloner import CloneResult
+from ..errors import ExprCloneError, naming
+from ..io.images import load_image
+from ..io.progress import Progress, Quiet
+from ..layout import DLIB68
+from ..models import default_detector
+from ..mouth import mouth_width
+from ..options import GLOBAL_WARPS, IMAGE_WARPS, Options
+from ..pipeline import clone_methods
+from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
+from .london import Dataset
+from .scores import FaceDescriptor, identity_distance, landmark_error, teeth
+
+#: one variant of the clone's options: the label its rows' names carry (:func:`variant_label`), and the options.
+Variant = tuple[str, Options]
+#: one row of scores (:data:`FIELDS`).
+Row = dict[str, Any]
+#: the two references scored beside the methods: the target's neutral photo (the floor) and its real smile (the ceiling).
+REFERENCES = ("no change", "real")
+#: photos kept in memory per process (5.5 MB each at 1350 px): pairs come sorted by source,
+#: so a source's two photos are read once for all its targets.
+PHOTO_CACHE = 8
+#: the columns of a row (one method in one variant, or a reference, on one pair).
+FIELDS = (
+    "source",
+    "target",
+    "method",
+    "target_smile",
+    "failed",
+    "overall",
+    "mouth",
+    "eyes_brows",
+    "identity",
+    "teeth",
+    "source_teeth",
+    "lambda_k",
+    "variant",
+)
+#: the default setting: the variant of no options (retargeting on), whose rows carry the methods' bare names.
+PAPER: Variant = ("", Options())
+
+
+@functools.lru_cache(maxsize=PHOTO_CACHE)
+def photo(path: str) -> np.ndarray:
+    """A photo, read once while it is among the last :data:`PHOTO_CACHE` used (pairs come sorted by source)."""
+    return load_image(path)
+
+
+@functools.cache
+def _descriptor() -> FaceDescriptor:
+    return FaceDescriptor()
+
+
+def smile_strength(neutral: np.ndarray, smile: np.ndarray) -> float:
+    """Relative widening of the mouth from ``neutral`` to ``smile`` landmarks (head motion removed)."""
+    aligned = global_warp.remove_head_motion(neutral, smile, DLIB68)
+    return float(_relative_width(aligned) / _relative_width(neutral) - 1.0)
+
+
+def _relative_width(landmarks: np.ndarray) -> float:
+    """The mouth's width over the outer-eye-corner distance."""
+    return mouth_width(landmarks, DLIB68) / geometry.interocular(landmarks, DLIB68)
+
+
+def variant_label(options: Options) -> str:
+    """What follows a method's name in a variant's rows: nothing in the default setting, else ``" [rbf, tps, S=1.5]"``.
+
+    Examples
+    --------
+    >>> variant_label(Options()), variant_label(Options(global_warp="rbf", strength=1.5)), variant_label(Options(image_warp="mesh"))
+    ('', ' [rbf, S=1.5]', '')
+    >>> variant_label(Options(global_warp="rbf", retarget=False))
+    ' [rbf, no retarget]'
+    """
+    said = [word for word in (options.global_warp, options.image_warp) if word not in (GLOBAL_WARPS[0], IMAGE_WARPS[0])]
+    if options.strength != 1.0:
+        said.append(f"S={options.strength:g}")
+    if not options.retarget:
+        said.append("no retarget")
+    return f" [{', '.join(said)}]" if said else ""
+
+
+def variants(
+    global_warps: tuple[str, ...] = GLOBAL_WARPS[:1],
+    image_warps: tuple[str, ...] = IMAGE_WARPS[:1],
+    strengths: tuple[float, ...] = (1.0,),
+    retargets: tuple[bool, ...] = (True,),
+) -> tuple[Variant, ...]:
+    """Every combination of the options, each ``(label, clone options)`` (:func:`variant_label`), the default setting first if asked."""
+    combinations = itertools.product(global_warps, image_warps, strengths, retargets)
+    options = [Options(global_warp=g, image_warp=i, strength=s, retarget=r) for g, i, s, r in combinations]
+    return tuple(sorted(((variant_label(o), o) for o in options), key=lambda v: v[0] != ""))
+
+
+def clone_pair(
+    data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict[str, np.ndarray], options: Options | None = None
+) -> dict[str, CloneResult]:
+    """A's smile cloned onto B by ``methods`` (with the clone ``options``), with the landmarks already found."""
+    sn, se, tn = data.path(pair[0], False), data.path(pair[0], True), data.path(pair[1], False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with naming({SOURCE_NEUTRAL: sn, SOURCE_EXPRESSION: se, TARGET_NEUTRAL: tn}):
+            images, found = (photo(sn), photo(se), photo(tn)), (landmarks[sn], landmarks[se], landmarks[tn])
+            return clone_methods(*images, methods, landmarks=found, options=options)
+
+
+def _candidates(
+    data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict[str, np.ndarray], variant: Variant
+) -> dict[str, tuple[np.ndarray | None, str, float | None, str]]:
+    """Each method's result in one variant, by its row's name: ``(image or None, failure, lambda_k, variant label)``."""
+    label, options = variant
+    try:
+        results = clone_pair(data, pair, methods, landmarks, options)
+        return {f"{m}{label}": (r.image, "", r.lambda_k, label) for m, r in results.items()}
+    except Exception as e:  # counted as a failure of every method, never dropped
+        return {f"{m}{label}": (None, f"{type(e).__name__}: {e}", None, label) for m in methods}
+
+
+def score_pair(
+    data: Dataset,
+    pair: tuple[str, str],
+    methods: tuple[str, ...],
+    landmarks: dict[str, np.ndarray],
+    variants: tuple[Variant, ...] = (PAPER,),
+) -> list[Row]:
+    """Clone A's smile onto B by each method in each variant (:func:`variants`) and score it; also the two references.
+
+    Returns
+    -------
+    list of dict
+        One row of :data:`FIELDS` per method and variant, and per reference.
+    """
+    a, b = pair
+    tn, ts, source_smile = data.path(b, False), data.path(b, True), data.path(a, True)
+    truth = landmarks[ts]
+    source_teeth = teeth(photo(source_smile), landmarks[source_smile], DLIB68)
+    target_descriptor = _descriptor()(photo(tn), landmarks[tn])
+    target_smile = smile_strength(landmarks[tn], truth)
+    candidates: dict[str, tuple[np.ndarray | None, str, float | None, str]] = {
+        "no change": (photo(tn), "", None, ""),
+        "real": (photo(ts), "", None, ""),
+    }
+    for variant in variants:
+        candidates.update(_candidates(data, pair, methods, landmarks, variant))
+    rows = []
+    for method, (image, failed, lam, label) in candidates.items():
+        row: Row = dict.fromkeys(FIELDS, "")
+        row.update(source=a, target=b, method=method, target_smile=round(target_smile, 4), lambda_k="" if lam is None else lam)
+        row["variant"] = label
+        row["source_teeth"] = round(source_teeth, 5)
+        if image is not None:
+            try:
+                known = {"real": landmarks[ts], "no change": landmarks[tn]}
+                found = known[method] if method in known else default_detector().detect(image, f"{method} result")
+                row.update(landmark_error(found, truth, DLIB68))
+                row["identity"] = identity_distance(_descriptor()(image, found), target_descriptor)
+                row["teeth"] = round(teeth(image, found, DLIB68), 5)
+            except ExprCloneError as e:
+                failed = str(e)
+        row["failed"] = failed
+        rows.append(row)
+    return rows
+
+
+def _score(args: tuple[Dataset, tuple[str, str], tuple[str, ...], dict[str, np.ndarray], tuple[Variant, ...]]) -> list[Row]:
+    return score_pair(*args)
+
+
+def run(
+    data: Dataset,
+    pairs: list[tuple[str, str]],
+    methods: tuple[str, ...],
+    jobs: int = 1,
+    progress: Progress = Quiet,
+    variants: tuple[Variant, ...] = (PAPER,),
+) -> tuple[list[Row], dict[str, np.ndarray]]:
+    """Score every pair (in ``jobs`` processes), each method in each of ``variants`` (:func:`variants`).
+
+    ``progress(total, what)`` makes a display of how many of ``total``
+    things are done (:data:`exprclone.io.progress.Progress`): one for the photos'
+    landmarks, one for the pairs.
+
+    Returns
+    -------
+    rows : list of dict
+        :func:`score_pair`'s rows of every pair.
+    landmarks : dict of str to ndarray
+        The landmarks detected on each photo, by path (detected once, shared by all pairs).
+    """
+    people = sorted({p for pair in pairs for p in pair})
+    paths = [data.path(p, s) for p in people for s in (False, True)]
+    landmarks: dict[str, np.ndarray] = {}
+    bar = progress(len(paths), "landmarks")
+    for k, path in enumerate(paths, 1):
+        landmarks[path] = default_detector().detect(photo(path), path)
+        bar.update(k)
+    rows: list[Row] = []
+    tasks = [(data, pair, methods, landmarks, variants) for pair in pairs]
+    bar, start = progress(len(pairs), "pairs"), time.perf_counter()
+    with multiprocessing.get_context("fork").Pool(jobs) if jobs > 1 else contextlib.nullcontext() as pool:
+        for k, pair_rows in enumerate(pool.imap(_score, tasks) if pool else map(_score, tasks), 1):
+            rows += pair_rows
+            bar.update(k, f"{(time.perf_counter() - start) / k:.1f} s each")
+    return rows, landmarks
