@@ -51,7 +51,7 @@ class CloneResult:
         ``h`` of each key muscle area (e+md only).
     mouth_mask : ndarray of shape (H, W) or None
         Weight of the source's mouth interior pasted into the opened mouth
-        (:mod:`exprclone.mouth`; methods with ERI), None when nothing was pasted.
+        (:mod:`exprclone.mouth_fill`; methods with ERI), None when nothing was pasted.
     unfolded_points : int
         Control points moved to stop triangles folding over.
     options : Options

@@ -139,7 +139,7 @@ class Driver:
     head_motion : bool
         Carry the source's head motion over to the portrait as a similarity transform.
     mouth : bool
-        Paste the source's mouth interior into an opened mouth (:mod:`exprclone.mouth`).
+        Paste the source's mouth interior into an opened mouth (:mod:`exprclone.mouth_fill`).
 
     Attributes
     ----------

@@ -1,6 +1,6 @@
 """The light on a face, read from its skin and its eye whites; the map from one light to another.
 
-Not in the paper: it serves the mouth interior (:mod:`exprclone.mouth`), which is pasted
+Not in the paper: it serves the mouth interior (:mod:`exprclone.mouth_fill`), which is pasted
 from the source's photo or video frame into the target's and must leave the source's
 light behind. A pixel's value is, channel by channel, the colour of a surface times the
 colour of the light (von Kries' diagonal model, used on the photos' own gamma-encoded

@@ -1,7 +1,7 @@
 """How a clone is made beyond its method: the global warp, the image warp, how much of the expression is transferred, retargeting.
 
 Pure data, like :mod:`exprclone.methods`: the command line lists the choices without
-loading numpy. An :class:`Options` value is handed to the :class:`~exprclone.pipeline.Cloner`
+loading numpy. An :class:`Options` value is handed to the :class:`~exprclone.cloner.Cloner`
 (checked at the door by :func:`exprclone.checks.check_options`); it is not a method of
 Fig. 11, but changes how every method's stages run:
 
@@ -51,7 +51,7 @@ STRENGTH_RANGE = (0.0, 2.0)
 
 @dataclass(frozen=True, eq=False)
 class Options:
-    """The options of one :class:`~exprclone.pipeline.Cloner` (see the module's notes).
+    """The options of one :class:`~exprclone.cloner.Cloner` (see the module's notes).
 
     Attributes
     ----------

@@ -309,13 +309,14 @@ class OneEuro:
 
     def __init__(
         self, min_cutoff: float = ONE_EURO_MIN_CUTOFF, beta: float = ONE_EURO_BETA, d_cutoff: float = 1.0, layout: Layout = DLIB68
-    ):
+    ) -> None:
         self.min_cutoff, self.beta, self.d_cutoff, self.layout = min_cutoff, beta, d_cutoff, layout
-        self.reset()
+        #: the last time, filtered landmarks and their speed; None before the first landmarks (or after :meth:`reset`)
+        self._last: tuple[float, np.ndarray, np.ndarray] | None = None
 
     def reset(self) -> None:
         """Forget the past: the next landmarks pass unfiltered (a face found again after it was lost)."""
-        self._last: tuple[float, np.ndarray, np.ndarray] | None = None
+        self._last = None
 
     @staticmethod
     def _alpha(cutoff: np.ndarray | float, dt: float) -> np.ndarray | float:

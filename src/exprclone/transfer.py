@@ -11,7 +11,7 @@ a weight ``w = S * r``, where ``r`` says how much a place belongs to the regions
 - the ERI becomes ``ERI ** w`` (in the log domain, so ``w = 0`` is no change and
   ``w = 2`` doubles each fold's contrast; :meth:`Transfer.ratio`);
 - the mouth interior fades in with the opening the scaled motion produces, as it does
-  for the whole expression (:mod:`exprclone.mouth`), and with the share of the mouth's
+  for the whole expression (:mod:`exprclone.mouth_fill`), and with the share of the mouth's
   motion transferred, ``min(1, w)`` on the mouth (:attr:`Transfer.paste`): at ``S = 0`` no
   source teeth enter a target whose neutral lips are already parted.
 

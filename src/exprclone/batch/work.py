@@ -2,7 +2,7 @@
 
 Tasks are plain functions over small, picklable arguments (paths, landmarks, options),
 and read and write the files at the paths given. A worker loads the detector and the
-eigenface basis once, on its first task (:func:`exprclone.pipeline.default_detector` and
+eigenface basis once, on its first task (:func:`exprclone.models.default_detector` and
 ``default_eigenfaces`` keep them), and keeps them for every task after.
 
 A clone at 1350 pixels allocates and frees buffers of 22 MB (a float image). glibc's

@@ -1,6 +1,7 @@
 """Scoring clones against real expressions.
 
 :mod:`.scores` (landmark error, identity, teeth), :mod:`.london` (the London Set's
-pairs), :mod:`.report` (``exprclone evaluate``'s tables and gallery) and
-:mod:`.figures` (the sheet of ``exprclone compare``).
+pairs), ``exprclone evaluate``'s :mod:`.runner` (every method on many pairs, scored),
+:mod:`.statistics` (summaries, pair-by-pair comparisons) and :mod:`.report` (its tables,
+files and gallery), and :mod:`.figures` (the sheet of ``exprclone compare``).
 """
