@@ -113,11 +113,11 @@ class Eigenfaces:
         """
         return (normalise(crops) - self.mean) @ self.components.T / self.stddev
 
-    def save(self, path: str | os.PathLike) -> None:
+    def save(self, path: str | os.PathLike[str]) -> None:
         np.savez_compressed(path, mean=self.mean, components=self.components, stddev=self.stddev, size=self.size)
 
     @classmethod
-    def load(cls, path: str | os.PathLike) -> "Eigenfaces":
+    def load(cls, path: str | os.PathLike[str]) -> "Eigenfaces":
         with np.load(path) as f:
             return cls(f["mean"], f["components"], f["stddev"], int(f["size"]))
 

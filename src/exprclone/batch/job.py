@@ -95,7 +95,7 @@ class Dask:
         except (OSError, ValueError) as e:
             raise ExprCloneError("--scheduler", f"cannot reach a Dask scheduler at {self.scheduler} ({e})") from None
         with client:
-            submitted: list = []
+            submitted: list[Any] = []
 
             def map_(function: Callable[[Any], Any], items: list[Any]) -> Iterator[tuple[int, Any]]:
                 futures = client.map(function, items, pure=False)

@@ -23,7 +23,7 @@ class Dataset:
     ids: tuple[str, ...]
 
     @classmethod
-    def open(cls, root: str | os.PathLike) -> "Dataset":
+    def open(cls, root: str | os.PathLike[str]) -> "Dataset":
         root = Path(root)
         ids = tuple(
             sorted(

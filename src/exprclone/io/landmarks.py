@@ -16,7 +16,7 @@ from .images import atomic_write
 TEM_POINTS = 189
 
 
-def read_tem(path: str | os.PathLike) -> np.ndarray:
+def read_tem(path: str | os.PathLike[str]) -> np.ndarray:
     """The points of a 189-point Face Research Lab ``.tem`` template.
 
     The file holds the point count on its first line, then one ``x y`` line per point (tab
@@ -65,7 +65,7 @@ def parse_tem(text: str, name: str) -> np.ndarray:
     return points
 
 
-def read_landmarks(path: str | os.PathLike, image_shape: tuple[int, ...], n_points: int = 68) -> np.ndarray:
+def read_landmarks(path: str | os.PathLike[str], image_shape: tuple[int, ...], n_points: int = 68) -> np.ndarray:
     """Landmarks for a photo of shape ``image_shape`` from a ``.json`` or ``.tem`` file.
 
     JSON holds ``{"landmarks": [[x, y], ...]}`` (what :func:`write_landmarks` writes) or a
@@ -108,7 +108,7 @@ def parse_landmarks(text: str, extension: str, image_shape: tuple[int, ...], n_p
     return check_points(points, image_shape, n_points, name)
 
 
-def write_landmarks(path: str | os.PathLike, landmarks: np.ndarray) -> None:
+def write_landmarks(path: str | os.PathLike[str], landmarks: np.ndarray) -> None:
     """Write landmarks as JSON ``{"landmarks": [[x, y], ...]}``, atomically.
 
     Coordinates are written at full float64 precision, so :func:`read_landmarks` gives
@@ -153,7 +153,7 @@ def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def _read_text(path: str | os.PathLike) -> str:
+def _read_text(path: str | os.PathLike[str]) -> str:
     """The file's text, or ExprCloneError naming the file."""
     try:
         with open(path, encoding="utf-8-sig") as f:

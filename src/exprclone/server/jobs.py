@@ -16,6 +16,7 @@ import time
 from concurrent.futures import Future
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from .limits import Busy
 
@@ -47,7 +48,7 @@ class Job:
     id: str
     folder: Path
     created: float = field(default_factory=time.time)
-    future: Future | None = None
+    future: Future[dict[str, Any]] | None = None
     ended: float | None = None
 
     @property
@@ -62,7 +63,7 @@ class Job:
     def progress_file(self) -> Path:
         return self.folder / "progress.json"
 
-    def state(self) -> dict:
+    def state(self) -> dict[str, Any]:
         """``{"id", "state", "progress", "error", "info"}``: state is queued, running, done or failed; progress in [0, 1]."""
         from ..errors import ExprCloneError
 
@@ -124,7 +125,7 @@ class Jobs:
             if job.ended is not None and now - job.ended > self.ttl:
                 self.discard(job)
 
-    def start(self, job: Job, future: Future) -> None:
+    def start(self, job: Job, future: Future[dict[str, Any]]) -> None:
         """Follow the job's work; it ends (and its time to live starts) when the work does."""
         job.future = future
         future.add_done_callback(lambda _: setattr(job, "ended", time.time()))
