@@ -115,3 +115,22 @@ def points():
 def pair_points(points):
     """The landmarks of :func:`pair`'s photos (source 001 neutral and smile, target 003), and the photos' shape."""
     return (points("001"), points("001", "smile"), points("003")), tuple(SHIPPED["shape"])
+
+
+@pytest.fixture(scope="session")
+def made_study(tmp_path_factory) -> Path:
+    """A study made once by ``exprclone study make`` (tests/studies.py: two sets of the samples, three methods); copy it to change it."""
+    from studies import make
+
+    folder = tmp_path_factory.mktemp("made")
+    p = make(folder)
+    assert p.returncode == 0, p.stderr
+    return folder / "study"
+
+
+@pytest.fixture()
+def study_folder(made_study, tmp_path) -> Path:
+    """A copy of :func:`made_study` of this test's own."""
+    import shutil
+
+    return Path(shutil.copytree(made_study, tmp_path / "study"))

@@ -21,16 +21,16 @@ def free_port() -> int:
 
 
 class Server:
-    """``exprclone serve ARGS`` in a process of its own; ``url`` once it answers ``/api/health``.
+    """``exprclone serve ARGS`` (or another ``command``) in a process of its own; ``url`` once it answers ``/api/health``.
 
     Its output goes to temporary files, not pipes: a pipe nobody reads while the server
     runs fills up (64 KB of log), and the server then stops at its next line.
     """
 
-    def __init__(self, *args: str) -> None:
+    def __init__(self, *args: str, command: tuple[str, ...] = ("serve",)) -> None:
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
-        command = [sys.executable, "-m", "exprclone", "serve", "--port", str(self.port), *args]
+        command = [sys.executable, "-m", "exprclone", *command, "--port", str(self.port), *args]
         self.output = tempfile.TemporaryFile("w+"), tempfile.TemporaryFile("w+")
         self.process = subprocess.Popen(command, stdout=self.output[0], stderr=self.output[1], text=True)
         deadline = time.time() + START_TIMEOUT

@@ -46,28 +46,50 @@ class Row:
 
 def read_manifest(path: str, out: str | None = None) -> list[Row]:
     """The rows of a manifest CSV (see the module's notes), checked (:func:`check_rows`)."""
-    folder = Path(path).resolve().parent
+    records = read_records(path, COLUMNS)
+    outputs = Path(out).resolve() if out else Path(path).resolve().parent
+    return check_rows([_row(k, r, path, outputs) for k, r in enumerate(records, 1)], path)
+
+
+def _row(number: int, record: dict[str, str], path: str, outputs: Path) -> Row:
+    """One manifest row: its photos in the folder of the manifest at ``path``, its output in ``outputs``, its own method and lambda if given."""
+    method, lambda_k = (record.get(column) or None for column in OPTIONAL)
+    return Row(number, *photos_of(record, path), str(outputs / record["output"]), method, lambda_k)
+
+
+def read_records(path: str, columns: tuple[str, ...]) -> list[dict[str, str]]:
+    """The records of a manifest CSV, each a dict of column to its text (stripped; ``""`` for a cell left out).
+
+    Raises
+    ------
+    ExprCloneError
+        About ``path``: it cannot be read, is not a CSV file, has none of one of ``columns``,
+        or a row leaves one of them empty.
+    """
     try:
         with open(path, newline="", encoding="utf-8-sig") as f:
             reader = csv.DictReader(f)
             header = reader.fieldnames or []
-            missing = [c for c in COLUMNS if c not in header]
+            missing = [c for c in columns if c not in header]
             if missing:
-                raise ExprCloneError(path, f"the manifest has no column {', '.join(missing)} (it needs {','.join(COLUMNS)})")
-            records = list(reader)
+                raise ExprCloneError(path, f"the manifest has no column {', '.join(missing)} (it needs {','.join(columns)})")
+            records = [{k: (v or "").strip() for k, v in r.items() if isinstance(k, str)} for r in reader]
     except OSError as e:
         raise ExprCloneError(path, f"cannot be read ({e.strerror})") from None
     except (UnicodeDecodeError, csv.Error) as e:
         raise ExprCloneError(path, f"not a CSV manifest ({e})") from None
-    outputs = Path(out).resolve() if out else folder
-    return check_rows([_row(k, r, folder, outputs) for k, r in enumerate(records, 1)], path)
+    for k, record in enumerate(records, 1):
+        empty = [c for c in columns if not record[c]]
+        if empty:
+            raise ExprCloneError(path, f"row {k} has no {', '.join(empty)}")
+    return records
 
 
-def _row(number: int, record: dict[str, str], folder: Path, outputs: Path) -> Row:
-    """One manifest row: its photos in the manifest's folder, its output in ``outputs``, its own method and lambda if given."""
-    sn, se, tn = (str(folder / record[role].strip()) for role in ROLES)
-    method, lambda_k = ((record.get(column) or "").strip() or None for column in OPTIONAL)
-    return Row(number, sn, se, tn, str(outputs / record["output"].strip()), method, lambda_k)
+def photos_of(record: dict[str, str], path: str) -> tuple[str, str, str]:
+    """A record's three photos (in :data:`exprclone.roles.ROLES`' order), as paths relative to the folder of the manifest at ``path``."""
+    folder = Path(path).resolve().parent
+    source_neutral, source_expression, target_neutral = (str(folder / record[role]) for role in ROLES)
+    return source_neutral, source_expression, target_neutral
 
 
 def rows_for_targets(source_neutral: str, source_expression: str, targets: str, out: str) -> list[Row]:

@@ -11,6 +11,7 @@ from ..errors import ExprCloneError
 from .inputs import add_lambda, add_mouth, add_transfer, transfer_options
 
 if TYPE_CHECKING:
+    from ..batch.job import Dask, Local
     from ..batch.manifest import Row
 
 #: exit status when some rows failed (the others were done).
@@ -30,13 +31,27 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     add_lambda(b, "for rows without their own lambda: auto (the DB metric) or a number (default: auto)")
     add_mouth(b)
     add_transfer(b, given=False)
-    b.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="worker processes (default: the number of cores)")
-    b.add_argument("--scheduler", metavar="ADDRESS", help="run on this Dask cluster (tcp://HOST:8786) instead of local processes")
+    add_workers(b)
     b.add_argument("--cache", metavar="DIR", help="keep the photos' landmarks here between runs (by the photos' content)")
     b.add_argument("--overwrite", action="store_true", help="redo rows whose output exists (default: skip them)")
     b.add_argument(
         "--report", metavar="REPORT.csv", help="one row per manifest row: status, error, lambda_k, seconds (default: OUT/report.csv)"
     )
+
+
+def add_workers(p: argparse.ArgumentParser) -> None:
+    """Where a job's clones run: ``--jobs`` local processes, or a Dask cluster (``--scheduler``)."""
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="worker processes (default: the number of cores)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="run on this Dask cluster (tcp://HOST:8786) instead of local processes")
+
+
+def backend_of(args: argparse.Namespace) -> Local | Dask:
+    """The backend that :func:`add_workers`'s options ask for (:class:`exprclone.batch.job.Local` or ``Dask``)."""
+    from ..batch import job
+
+    if args.jobs < 1:
+        raise ExprCloneError("--jobs", f"expected at least 1, got {args.jobs}")
+    return job.Dask(args.scheduler) if args.scheduler else job.Local(args.jobs)
 
 
 def rows_of(args: argparse.Namespace) -> list[Row]:
@@ -60,13 +75,11 @@ def run(args: argparse.Namespace) -> None:
     from ..batch import job, work
     from ..io.progress import Bar
 
-    if args.jobs < 1:
-        raise ExprCloneError("--jobs", f"expected at least 1, got {args.jobs}")
+    backend = backend_of(args)
     rows = rows_of(args)
     folder = Path(args.out or Path(args.manifest).resolve().parent)
     report = args.report or str(folder / "report.csv")
     options = work.JobOptions(args.method, args.lambda_k, args.mouth, transfer_options(args))
-    backend = job.Dask(args.scheduler) if args.scheduler else job.Local(args.jobs)
     cache = None if args.cache is None else Path(args.cache)
     outcomes: dict[int, work.Outcome] = {}
     try:

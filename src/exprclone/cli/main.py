@@ -14,13 +14,22 @@ import warnings
 from typing import TextIO
 
 from ..errors import ExprCloneError
-from . import batch, clone, compare, demo, evaluate, serve, video
+from . import batch, clone, compare, demo, evaluate, serve, study, video
 
 EXIT_USAGE = 2
 #: exit status after Ctrl-C (128 + SIGINT), as shells report it.
 EXIT_INTERRUPTED = 130
 #: each command's module: ``add_parser(subparsers)`` and ``run(args)``.
-COMMANDS = {"clone": clone, "compare": compare, "video": video, "batch": batch, "serve": serve, "demo": demo, "evaluate": evaluate}
+COMMANDS = {
+    "clone": clone,
+    "compare": compare,
+    "video": video,
+    "batch": batch,
+    "serve": serve,
+    "demo": demo,
+    "evaluate": evaluate,
+    "study": study,
+}
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -10,12 +10,17 @@ from ..errors import ExprCloneError
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     s = sub.add_parser("serve", help="serve the web page and the HTTP API")
-    s.add_argument("--host", default="127.0.0.1", help="address to listen on (default: 127.0.0.1, this machine only)")
-    s.add_argument("--port", type=int, default=8000, help="port (default: 8000)")
+    add_address(s)
     s.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes that clone (default: the number of cores)")
     s.add_argument("--queue", type=int, default=8, help="requests that may wait for a worker; more are refused with 503 (default: 8)")
     s.add_argument("--max-upload-mb", type=float, default=20.0, help="largest request, in MB (default: 20)")
     s.add_argument("--cors", action="append", default=[], metavar="ORIGIN", help="let pages from ORIGIN call the API (repeatable)")
+
+
+def add_address(p: argparse.ArgumentParser) -> None:
+    """Where a server listens: ``--host`` and ``--port``."""
+    p.add_argument("--host", default="127.0.0.1", help="address to listen on (default: 127.0.0.1, this machine only)")
+    p.add_argument("--port", type=int, default=8000, help="port (default: 8000)")
 
 
 def run(args: argparse.Namespace) -> None:

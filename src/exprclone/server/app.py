@@ -133,15 +133,26 @@ def _error(status: int, message: str, headers: dict[str, str] | None = None) -> 
     return JSONResponse({"error": message}, status_code=status, headers=headers)
 
 
+def _shown(part: object, longest: int = 40) -> str:
+    """A part of a field's location (a client's JSON key may hold anything) as short text on one line."""
+    text = str(part).encode("unicode_escape").decode("ascii")
+    return text if len(text) <= longest else f"{text[: longest - 3]}..."
+
+
 def _validation_message(error: RequestValidationError) -> str:
     """One line naming the first field that failed FastAPI's checks, and why."""
     first = error.errors()[0]
-    where = [str(part) for part in first.get("loc", ()) if part not in ("body", "query", "path")]
+    where = [_shown(part) for part in first.get("loc", ()) if part not in ("body", "query", "path")]
     return f"{'.'.join(where) or 'request'}: {'missing' if first.get('type') == 'missing' else first.get('msg', 'invalid')}"
 
 
-def add_error_answers(app: FastAPI) -> None:
-    """Every error as JSON ``{"error": ...}``; nothing a user sends gives a traceback."""
+def add_error_answers(app: FastAPI, statuses: dict[type[Exception], int] | None = None) -> None:
+    """Every error as JSON ``{"error": ...}``; nothing a user sends gives a traceback.
+
+    ``statuses``: more exception types, each answered with its own status.
+    """
+    for kind, status in (statuses or {}).items():
+        app.add_exception_handler(kind, lambda request, e, status=status: _error(status, str(e)))
     app.add_exception_handler(NoFaceError, lambda request, e: _error(422, str(e)))
     app.add_exception_handler(ExprCloneError, lambda request, e: _error(400, str(e)))
     app.add_exception_handler(RequestValidationError, lambda request, e: _error(400, _validation_message(e)))

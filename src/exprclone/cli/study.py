@@ -1,0 +1,88 @@
+"""``exprclone study``: the paper's user study (Table 1) on your photos: make a study, serve it to participants, read the results."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..errors import ExprCloneError
+from .batch import add_workers, backend_of
+from .evaluate import listed
+from .inputs import add_lambda, add_mouth, add_transfer, transfer_options
+from .serve import add_address
+
+
+def add_parser(sub) -> None:
+    from ..methods import METHODS
+
+    s = sub.add_parser("study", help="the paper's user study (Table 1): make a study, serve it to participants, read the results")
+    commands = s.add_subparsers(dest="study_command", required=True)
+    m = commands.add_parser("make", help="clone each set of a manifest by every method into a study folder, the methods hidden")
+    m.add_argument("manifest", help="CSV: source_neutral,source_expression,target_neutral[,set,lambda] (paths relative to it)")
+    m.add_argument("-o", "--out", required=True, metavar="DIR", help="the study folder to write")
+    m.add_argument(
+        "--methods",
+        type=listed(METHODS, "method"),
+        default=METHODS,
+        metavar="LIST",
+        help="comma-separated methods to compare (default: all)",
+    )
+    m.add_argument(
+        "--size", type=int, metavar="PIXELS", help="make the photos at most this long on their longest side (default: as they are)"
+    )
+    add_lambda(m, "for sets without their own lambda: auto (the DB metric) or a number (default: auto)")
+    add_mouth(m)
+    add_transfer(m, given=False)
+    add_workers(m)
+    m.add_argument("--overwrite", action="store_true", help="replace a study already in DIR, its ratings too")
+    v = commands.add_parser("serve", help="serve a study's page to participants, saving their ratings in the study folder")
+    v.add_argument("folder", metavar="DIR", help="a study folder (exprclone study make)")
+    add_address(v)
+    v.add_argument("--max-participants", type=int, default=1000, help="participants the study takes at most (default: 1000)")
+    r = commands.add_parser("results", help="the paper's Table 1: each method's mean score per set and overall, with a 95%% interval")
+    r.add_argument("folder", metavar="DIR", help="a study folder with ratings")
+    r.add_argument("--csv", metavar="FILE", help="also write one row per set and method: set,method,n,mean,ci95")
+
+
+def run(args: argparse.Namespace) -> None:
+    {"make": make, "serve": serve, "results": results}[args.study_command](args)
+
+
+def make(args: argparse.Namespace) -> None:
+    from ..batch import work
+    from ..progress import Bar
+    from ..study.make import make as make_study
+
+    options = work.Options(lambda_k=args.lambda_k, mouth=args.mouth, transfer=transfer_options(args))
+    progress = lambda total, what: Bar(sys.stderr, total, what)  # noqa: E731
+    make_study(
+        args.manifest, args.out, args.methods, options, backend_of(args), size=args.size, overwrite=args.overwrite, progress=progress
+    )
+    print(f"exprclone: study written to {args.out}; serve it with: exprclone study serve {args.out}")
+
+
+def serve(args: argparse.Namespace) -> None:
+    import uvicorn
+
+    from ..study.app import create_app
+
+    if args.max_participants < 1:
+        raise ExprCloneError("--max-participants", f"expected at least 1, got {args.max_participants}")
+    app = create_app(args.folder, args.max_participants)
+    print(f"exprclone: serving the study {args.folder} on http://{args.host}:{args.port}/ (Ctrl-C to stop)", flush=True)
+    uvicorn.run(app, host=args.host, port=args.port, log_level="warning")
+    print("exprclone: stopped", flush=True)
+
+
+def results(args: argparse.Namespace) -> None:
+    from ..io.images import atomic_write, check_output_path
+    from ..study.results import csv_text, formatted
+    from ..study.results import results as table
+
+    if args.csv:
+        check_output_path(args.csv, extensions=(".csv",))
+    found = table(args.folder)
+    if args.csv:
+        text = csv_text(found.cells)
+        atomic_write(args.csv, lambda f: f.write(text.encode()))
+    print(formatted(found))
