@@ -6,7 +6,7 @@ import pytest
 from fastapi.testclient import TestClient
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from studies import METHOD_NAME
+from studies import METHOD_NAME, study
 
 from exprclone.study.app import MAX_BODY, create_app
 from exprclone.study.folder import read_study
@@ -62,7 +62,10 @@ def test_the_order_is_shuffled_by_participant_and_set():
 
 def test_nothing_the_server_gives_names_a_method(client):
     pid = new(client)
-    texts = [client.get(path).text for path in ("/", "/static/study.js", "/static/study.css", "/openapi.json", f"/api/participants/{pid}")]
+    texts = [
+        client.get(path).text
+        for path in ("/", "/static/call.js", "/static/study.js", "/static/study.css", "/openapi.json", f"/api/participants/{pid}")
+    ]
     assert all(not METHOD_NAME.search(t) for t in texts), [METHOD_NAME.search(t) for t in texts]
     assert METHOD_NAME.search("a.png by e+md, Global warp") and not METHOD_NAME.search("localStorage")  # the check sees them
 
@@ -169,3 +172,11 @@ def test_any_json_is_answered_without_a_500(client):
             assert r.status_code in (200, 400) and (r.status_code == 200 or "\n" not in r.json()["error"]), (sent, r.text)
 
     check()
+
+
+def test_serving_a_folder_that_is_not_a_study_is_one_line(tmp_path):
+    p = study("serve", tmp_path, "--port", "9")
+    assert (
+        p.returncode == 2
+        and p.stderr.strip() == f"exprclone: error: {tmp_path}: not a study folder (no study.json): make one with exprclone study make"
+    )

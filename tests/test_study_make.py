@@ -1,6 +1,10 @@
 """exprclone study make: each set cloned by every method under random names, the key apart; bad input leaves nothing."""
 
 import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -56,6 +60,7 @@ def test_the_key_names_the_method_that_made_each_result(made_study):
             "rows 1 and 2 both name the set 'x'",
         ),
         ("source_neutral,source_expression,target_neutral\nnone.jpg,b.jpg,c.jpg\n", "none.jpg: no such file"),
+        ("source_neutral,source_expression,target_neutral,lambda\na.jpg,b.jpg,c.jpg,-1\n", "row 1: lambda: "),
     ],
 )
 def test_an_unusable_manifest_is_one_line_and_leaves_nothing(tmp_path, content, message):
@@ -108,3 +113,16 @@ def test_bad_options_are_refused_before_any_work(tmp_path, args, message):
     p = study("make", manifest(tmp_path), "-o", tmp_path / "study", *args)
     assert p.returncode == 2 and message in p.stderr.strip().splitlines()[-1], p.stderr
     assert not (tmp_path / "study").exists()
+
+
+def test_ctrl_c_leaves_nothing(tmp_path):
+    sets = [(f"{s}-{t}", s, t) for s in ("001", "003", "126") for t in ("001", "003", "126") if s != t]  # 6 sets by 7 methods
+    command = [sys.executable, "-m", "exprclone", "study", "make", str(manifest(tmp_path, sets)), "-o", str(tmp_path / "study")]
+    process = subprocess.Popen([*command, "--size", str(SIZE), "--jobs", "1"], stderr=subprocess.PIPE, text=True)
+    deadline, photos = time.time() + 120, 3 + 3  # each person's two photos: more images than these are results
+    while time.time() < deadline and sum(len(list(p.glob("images/*.png"))) for p in tmp_path.glob(".study.partial-*")) <= photos:
+        time.sleep(0.05)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=120)
+    assert process.returncode == 130 and "interrupted; no output written" in err, err
+    assert sorted(os.listdir(tmp_path)) == ["manifest.csv"]

@@ -109,6 +109,12 @@ def page() -> FileResponse:
     return FileResponse(Path(str(resources.files(__package__) / "static" / "index.html")))
 
 
+@router.get("/static/call.js", include_in_schema=False)
+def shared_script() -> FileResponse:
+    """The fetch that exprclone's pages share (the clone page's ``static/call.js``)."""
+    return FileResponse(Path(str(resources.files("exprclone.server") / "static" / "call.js")), media_type="text/javascript")
+
+
 @router.get("/api/health")
 def health() -> dict:
     """The server is up: ``{"status": "ok", "version": ...}``."""

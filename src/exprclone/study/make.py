@@ -54,6 +54,10 @@ def read_sets(path: str) -> list[Triple]:
         raise ExprCloneError(path, "no rows: a study needs at least one set")
     first: dict[str, int] = {}
     for k, triple in enumerate(sets, 1):
+        try:
+            work.parse_lambda(triple.lambda_k or "auto")
+        except ExprCloneError as e:
+            raise ExprCloneError(path, f"row {k}: {e}") from None
         if triple.name in first:
             raise ExprCloneError(path, f"rows {first[triple.name]} and {k} both name the set {triple.name!r}")
         first[triple.name] = k
@@ -109,6 +113,8 @@ def make(
         ``progress(total, what)``, as :func:`exprclone.batch.job.run` takes it.
     """
     methods = tuple(m.name for m in lookup(methods))
+    if not methods:
+        raise ExprCloneError("methods", "a study needs one method at least")
     if size is not None and size < MIN_SIZE:
         raise ExprCloneError("--size", f"expected at least {MIN_SIZE} pixels, got {size}")
     sets, folder = read_sets(manifest), Path(folder).resolve()
@@ -126,6 +132,8 @@ def make(
         write_json(built / STUDY, public.public())
         write_json(built / KEY, key(manifest, sets, methods, items, options, size))
         install(built, folder)
+    except OSError as e:
+        raise ExprCloneError(str(folder), f"cannot be written ({e.strerror or e})") from None
     finally:
         shutil.rmtree(built, ignore_errors=True)
 

@@ -4,7 +4,6 @@
 const $ = (selector) => document.querySelector(selector);
 // the candidates of the DB metric (exprclone.metric.LAMBDAS), for the slider
 const LAMBDAS = [0, 0.1, 0.2, 0.35, 0.5, 0.75, 1, 1.5, 2, 3, 5, 10, Infinity];
-const REQUEST_TIMEOUT = 180000; // ms: a request never hangs the page
 const POLL_EVERY = 500; // ms between two looks at a video job
 
 // The server names inputs by their form field ("target_neutral: no face found"); the page by their label.
@@ -17,26 +16,6 @@ function say(message) {
 function busy(on) {
   $("#busy").hidden = !on;
   for (const id of ["#clone", "#compare", "#video-start"]) $(id).disabled = on;
-}
-
-// fetch that gives the server's {"error"} as an Error, and never waits forever
-async function call(url, options = {}) {
-  const controller = new AbortController();
-  const timer = setTimeout(() => controller.abort(), REQUEST_TIMEOUT);
-  let response;
-  try {
-    response = await fetch(url, { ...options, signal: controller.signal });
-  } catch (e) {
-    throw new Error(e.name === "AbortError" ? "the server took too long to answer" : "the server cannot be reached");
-  } finally {
-    clearTimeout(timer);
-  }
-  if (!response.ok) {
-    let message = `the server answered ${response.status}`;
-    try { message = (await response.json()).error || message; } catch (e) { /* not JSON */ }
-    throw new Error(message);
-  }
-  return response;
 }
 
 function fileOf(field) {

@@ -16,43 +16,24 @@ function say(message) {
   $("#error").hidden = !message;
 }
 
-// fetch JSON; the server's {"error"} comes out as an Error (with the status), and no request waits forever
-async function call(url, options = {}) {
-  const controller = new AbortController();
-  const timer = setTimeout(() => controller.abort(), REQUEST_TIMEOUT);
-  let response;
-  try {
-    response = await fetch(url, { ...options, signal: controller.signal });
-  } catch (e) {
-    throw new Error(e.name === "AbortError" ? "the server took too long to answer" : "the server cannot be reached");
-  } finally {
-    clearTimeout(timer);
-  }
-  let body = null;
-  try { body = await response.json(); } catch (e) { /* not JSON */ }
-  if (!response.ok) {
-    const error = new Error((body && body.error) || `the server answered ${response.status}`);
-    error.status = response.status;
-    throw error;
-  }
-  return body;
-}
+// the JSON of an answer (call.js: the server's {"error"} as an Error with the status)
+const json = async (url, options = {}) => (await call(url, options, REQUEST_TIMEOUT)).json();
 
-const put = (url, body) => call(url, { method: "PUT", headers: { "content-type": "application/json" }, body: JSON.stringify(body) });
+const put = (url, body) => json(url, { method: "PUT", headers: { "content-type": "application/json" }, body: JSON.stringify(body) });
 
 // the participant this browser is, or a new one if it is none yet (or the study no longer knows it)
 async function participant() {
   const known = localStorage.getItem(KEY);
   if (known) {
     try {
-      return await call(`/api/participants/${encodeURIComponent(known)}`);
+      return await json(`/api/participants/${encodeURIComponent(known)}`);
     } catch (e) {
       if (e.status !== 404 && e.status !== 400) throw e;
     }
   }
-  const made = await call("/api/participants", { method: "POST" });
+  const made = await json("/api/participants", { method: "POST" });
   localStorage.setItem(KEY, made.id);
-  return call(`/api/participants/${made.id}`);
+  return json(`/api/participants/${made.id}`);
 }
 
 function show(step) {
