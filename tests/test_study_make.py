@@ -72,7 +72,7 @@ def test_an_unusable_manifest_is_one_line_and_leaves_nothing(tmp_path, content, 
 
 def make_here(folder: Path, sets, **options) -> None:
     """``study make`` in this process (its detector already loaded by the tests before), one method, one worker."""
-    make_study(str(manifest(folder, sets)), folder / "study", ("global",), work.Options(), job.Local(1), size=SIZE, **options)
+    make_study(str(manifest(folder, sets)), folder / "study", ("global",), work.JobOptions(), job.Local(1), size=SIZE, **options)
 
 
 def test_a_photo_without_a_face_stops_the_study_naming_it(tmp_path):

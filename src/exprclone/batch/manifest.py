@@ -52,7 +52,8 @@ def read_manifest(path: str, out: str | None = None) -> list[Row]:
 
 
 def _row(number: int, record: dict[str, str], path: str, outputs: Path) -> Row:
-    """One manifest row: its photos in the folder of the manifest at ``path``, its output in ``outputs``, its own method and lambda if given."""
+    """One manifest row: its photos in the folder of the manifest at ``path``, its output in ``outputs``, its own method and
+    lambda if given."""
     method, lambda_k = (record.get(column) or None for column in OPTIONAL)
     return Row(number, *photos_of(record, path), str(outputs / record["output"]), method, lambda_k)
 

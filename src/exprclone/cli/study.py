@@ -12,7 +12,7 @@ from .inputs import add_lambda, add_mouth, add_transfer, transfer_options
 from .serve import add_address
 
 
-def add_parser(sub) -> None:
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     from ..methods import METHODS
 
     s = sub.add_parser("study", help="the paper's user study (Table 1): make a study, serve it to participants, read the results")
@@ -50,13 +50,20 @@ def run(args: argparse.Namespace) -> None:
 
 def make(args: argparse.Namespace) -> None:
     from ..batch import work
-    from ..progress import Bar
+    from ..io.progress import Bar
     from ..study.make import make as make_study
 
-    options = work.Options(lambda_k=args.lambda_k, mouth=args.mouth, transfer=transfer_options(args))
-    progress = lambda total, what: Bar(sys.stderr, total, what)  # noqa: E731
+    options = work.JobOptions(lambda_k=args.lambda_k, mouth=args.mouth, options=transfer_options(args))
+    backend = backend_of(args)
     make_study(
-        args.manifest, args.out, args.methods, options, backend_of(args), size=args.size, overwrite=args.overwrite, progress=progress
+        args.manifest,
+        args.out,
+        args.methods,
+        options,
+        backend,
+        size=args.size,
+        overwrite=args.overwrite,
+        progress=lambda total, what: Bar(sys.stderr, total, what),
     )
     print(f"exprclone: study written to {args.out}; serve it with: exprclone study serve {args.out}")
 

@@ -13,16 +13,18 @@ unknown participant or image, 409 when the study is full, 413 for a body over th
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
-from fastapi import APIRouter, FastAPI, Request
+from fastapi import APIRouter, Depends, FastAPI
 from fastapi import Path as InPath
 from fastapi.responses import FileResponse
 from fastapi.staticfiles import StaticFiles
 from pydantic import BaseModel, ConfigDict, Field, StrictInt, StrictStr
 from starlette.exceptions import HTTPException
+from starlette.requests import HTTPConnection
 
 from .. import __version__
 from ..server.app import add_error_answers
@@ -76,19 +78,19 @@ class SetView(BaseModel):
 
 class State(BaseModel):
     participant: str
-    about: dict | None = Field(description="age and gender as told, or null before they were asked")
+    about: dict[str, Any] | None = Field(description="age and gender as told, or null before they were asked")
     sets: list[SetView]
     ratings: dict[str, dict[str, int]] = Field(description="the sets rated so far (by index): each result's id to its score")
 
 
-ERRORS: dict = {status: {"model": Error} for status in (400, 404, 413)}
+ERRORS: dict[int | str, dict[str, Any]] = {status: {"model": Error} for status in (400, 404, 413)}
 
 
 def image_url(image_id: str) -> str:
     return f"/images/{image_id}{SUFFIX}"
 
 
-def view(study: Study, record: Record) -> dict:
+def view(study: Study, record: Record) -> dict[str, Any]:
     """A participant's state: their answers, and each set with its results in the order shuffled for them."""
     sets = [
         {
@@ -100,8 +102,23 @@ def view(study: Study, record: Record) -> dict:
     return {"participant": record.participant, "about": record.about, "sets": sets, "ratings": record.data()["ratings"]}
 
 
-def participants(request: Request) -> Participants:
-    return request.app.state.participants
+@dataclass(frozen=True)
+class Served:
+    """What the server holds: the study, the ids of the images its page may show, and its participants."""
+
+    study: Study
+    images: frozenset[str]
+    participants: Participants
+
+
+def the_study(connection: HTTPConnection) -> Served:
+    """The study being served (:class:`Served`, made with the application): a FastAPI dependency."""
+    served: Served = connection.app.state.served
+    return served
+
+
+#: a route's parameter for the study being served (:func:`the_study`).
+Server = Annotated[Served, Depends(the_study)]
 
 
 @router.get("/", include_in_schema=False)
@@ -116,51 +133,49 @@ def shared_script() -> FileResponse:
 
 
 @router.get("/api/health")
-def health() -> dict:
+def health() -> dict[str, str]:
     """The server is up: ``{"status": "ok", "version": ...}``."""
     return {"status": "ok", "version": __version__}
 
 
 @router.post("/api/participants", status_code=201, response_model=NewParticipant, responses={409: {"model": Error}})
-def new_participant(request: Request) -> dict:
+def new_participant(server: Server) -> dict[str, str]:
     """A new anonymous participant (409 when the study has all it may take)."""
-    return {"id": participants(request).create().participant}
+    return {"id": server.participants.create().participant}
 
 
 @router.get("/api/participants/{participant}", response_model=State, responses=ERRORS)
-def state(request: Request, participant: Participant) -> dict:
+def state(server: Server, participant: Participant) -> dict[str, Any]:
     """A participant's state: what they told, the sets (their results in this participant's order), the ratings saved."""
-    return view(request.app.state.study, participants(request).load(participant))
+    return view(server.study, server.participants.load(participant))
 
 
 @router.put("/api/participants/{participant}/about", response_model=State, responses=ERRORS)
-def tell(request: Request, participant: Participant, about: About) -> dict:
+def tell(server: Server, participant: Participant, about: About) -> dict[str, Any]:
     """Save a participant's age and gender (either may be null); their state."""
-    return view(request.app.state.study, participants(request).tell(participant, about.model_dump()))
+    return view(server.study, server.participants.tell(participant, about.model_dump()))
 
 
 @router.put("/api/participants/{participant}/sets/{index}", response_model=State, responses=ERRORS)
-def rate(request: Request, participant: Participant, index: Annotated[int, InPath(ge=0, le=100_000)], body: Ratings) -> dict:
+def rate(server: Server, participant: Participant, index: Annotated[int, InPath(ge=0, le=100_000)], body: Ratings) -> dict[str, Any]:
     """Save a participant's scores of one set's results (each of them, 1 to 5), replacing any saved before; their state."""
-    return view(request.app.state.study, participants(request).rate(participant, index, body.ratings))
+    return view(server.study, server.participants.rate(participant, index, body.ratings))
 
 
 @router.get("/images/{name}", response_class=FileResponse, responses={200: {"content": {"image/png": {}}}, 404: {"model": Error}})
-def image(request: Request, name: Annotated[str, InPath(max_length=32)]) -> FileResponse:
+def image(server: Server, name: Annotated[str, InPath(max_length=32)]) -> FileResponse:
     """A photo or result of the study, by its id."""
-    study: Study = request.app.state.study
     image_id = name.removesuffix(SUFFIX)
-    if not (name.endswith(SUFFIX) and ID.fullmatch(image_id) and image_id in request.app.state.images):
+    if not (name.endswith(SUFFIX) and ID.fullmatch(image_id) and image_id in server.images):
         raise HTTPException(404, f"no image {name!r} in this study")
-    return FileResponse(study.image(image_id), media_type="image/png")
+    return FileResponse(server.study.image(image_id), media_type="image/png")
 
 
 def create_app(folder: str | Path, max_participants: int = MAX_PARTICIPANTS) -> FastAPI:
     """The application serving the study in ``folder`` (ExprCloneError if it is not a whole study)."""
     study = read_study(folder)
     app = FastAPI(title="exprclone study", version=__version__, description="A user study: rate each result from 1 to 5.")
-    app.state.study, app.state.images = study, study.images()
-    app.state.participants = Participants(study, max_participants)
+    app.state.served = Served(study, frozenset(study.images()), Participants(study, max_participants))
     add_error_answers(app, {NoSuchParticipant: 404, StudyFull: 409})
     app.include_router(router)
     app.mount("/static", StaticFiles(directory=Path(str(resources.files(__package__) / "static"))), name="static")

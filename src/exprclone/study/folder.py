@@ -22,9 +22,10 @@ import re
 import secrets
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
-from ..batch.manifest import PHOTOS
 from ..errors import ExprCloneError
+from ..roles import ROLES
 
 #: the files and folders of a study.
 STUDY, KEY, IMAGES, RATINGS = "study.json", "key.json", "images", "ratings"
@@ -46,7 +47,8 @@ def new_id(taken: set[str]) -> str:
 
 @dataclass(frozen=True)
 class Set:
-    """One set of a study as a participant sees it: ``photos``, each role's image id (:data:`PHOTOS`); ``items``, its results' ids."""
+    """One set of a study as a participant sees it: ``photos``, each role's image id (roles of :mod:`exprclone.roles`);
+    ``items``, its results' ids."""
 
     photos: dict[str, str]
     items: tuple[str, ...]
@@ -67,12 +69,12 @@ class Study:
         """The ids of every image the page may show."""
         return {i for s in self.sets for i in (*s.photos.values(), *s.items)}
 
-    def public(self) -> dict:
+    def public(self) -> dict[str, Any]:
         """What ``study.json`` holds."""
         return {"format": FORMAT, "sets": [{"photos": s.photos, "items": sorted(s.items)} for s in self.sets]}
 
 
-def read_json(path: Path, what: str) -> dict:
+def read_json(path: Path, what: str) -> dict[str, Any]:
     """A JSON object from a file of a study, or ExprCloneError about ``path`` saying it is not ``what``."""
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
@@ -87,7 +89,7 @@ def read_json(path: Path, what: str) -> dict:
     return data
 
 
-def write_json(path: Path, data: dict) -> None:
+def write_json(path: Path, data: dict[str, Any]) -> None:
     """A JSON file written atomically (whole or not at all)."""
     from ..io.images import atomic_write
 
@@ -106,7 +108,7 @@ def read_study(folder: str | Path) -> Study:
     path = folder / STUDY
     data = read_json(path, "a study's study.json")
     try:
-        sets = tuple(Set({role: s["photos"][role] for role in PHOTOS}, tuple(s["items"])) for s in data["sets"])
+        sets = tuple(Set({role: s["photos"][role] for role in ROLES}, tuple(s["items"])) for s in data["sets"])
     except (KeyError, TypeError) as e:
         raise ExprCloneError(str(path), f"not a study's study.json (no {e})") from None
     study = Study(folder, sets)

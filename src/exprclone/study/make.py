@@ -18,19 +18,24 @@ study is replaced only when asked (``overwrite``), a folder that is not a study 
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
 import os
 import secrets
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from .. import __version__
 from ..batch import job, work
-from ..batch.manifest import PHOTOS, Row, photos_of, read_records
+from ..batch.manifest import Row, photos_of, read_records
+from ..checks import parse_lambda
 from ..errors import ExprCloneError
+from ..io.progress import Progress, Quiet
 from ..methods import lookup
-from ..progress import Quiet
+from ..options import Options
+from ..roles import ROLES
 from .folder import FORMAT, IMAGES, KEY, STUDY, SUFFIX, Set, Study, new_id, write_json
 
 #: the smallest ``size`` allowed, in pixels (the face detector needs a face about 80 pixels wide).
@@ -39,7 +44,7 @@ MIN_SIZE = 128
 
 @dataclass(frozen=True)
 class Triple:
-    """One set as the manifest gives it: its name, its three photos (:data:`PHOTOS`' order), its own lambda_k if any."""
+    """One set as the manifest gives it: its name, its three photos (in :data:`exprclone.roles.ROLES`' order), its own lambda_k if any."""
 
     name: str
     photos: tuple[str, str, str]
@@ -48,14 +53,14 @@ class Triple:
 
 def read_sets(path: str) -> list[Triple]:
     """The sets of a study's manifest (see the module's notes), or ExprCloneError about ``path``."""
-    records = read_records(path, PHOTOS)
+    records = read_records(path, ROLES)
     sets = [Triple(r.get("set") or str(k), photos_of(r, path), r.get("lambda") or None) for k, r in enumerate(records, 1)]
     if not sets:
         raise ExprCloneError(path, "no rows: a study needs at least one set")
     first: dict[str, int] = {}
     for k, triple in enumerate(sets, 1):
         try:
-            work.parse_lambda(triple.lambda_k or "auto")
+            parse_lambda(triple.lambda_k or "auto")
         except ExprCloneError as e:
             raise ExprCloneError(path, f"row {k}: {e}") from None
         if triple.name in first:
@@ -84,12 +89,12 @@ def make(
     manifest: str,
     folder: str | Path,
     methods: tuple[str, ...],
-    options: work.Options,
-    backend,
+    options: work.JobOptions,
+    backend: job.Local | job.Dask,
     *,
     size: int | None = None,
     overwrite: bool = False,
-    progress=Quiet,
+    progress: Progress = Quiet,
 ) -> None:
     """Make the study of ``manifest``'s sets, cloned by ``methods``, in ``folder`` (see the module's notes).
 
@@ -101,7 +106,7 @@ def make(
         Where the study goes.
     methods : tuple of str
         Names of :data:`exprclone.methods.METHODS`.
-    options : exprclone.batch.work.Options
+    options : exprclone.batch.work.JobOptions
         The clone options (its ``method`` unused: every set is cloned by each of ``methods``).
     backend : exprclone.batch.job.Local or exprclone.batch.job.Dask
         Where the clones run.
@@ -125,10 +130,10 @@ def make(
         taken: set[str] = set()
         copies = copy_photos(manifest, sets, built, size, taken)
         rows, items = plan(sets, methods, copies, built, taken)
-        outcomes: dict = {}
+        outcomes: dict[int, work.Outcome] = {}
         job.run(rows, options, backend, outcomes, progress=progress)
         check_outcomes(manifest, sets, rows, outcomes, {str(built / IMAGES / f"{i}{SUFFIX}"): p for p, i in copies.items()})
-        public = Study(built, tuple(Set(dict(zip(PHOTOS, (copies[p] for p in s.photos))), tuple(i)) for s, i in zip(sets, items)))
+        public = Study(built, tuple(Set(dict(zip(ROLES, (copies[p] for p in s.photos))), tuple(i)) for s, i in zip(sets, items)))
         write_json(built / STUDY, public.public())
         write_json(built / KEY, key(manifest, sets, methods, items, options, size))
         install(built, folder)
@@ -167,17 +172,21 @@ def plan(
     sets: list[Triple], methods: tuple[str, ...], copies: dict[str, str], built: Path, taken: set[str]
 ) -> tuple[list[Row], list[dict[str, str]]]:
     """The batch rows (each set by each method, from the copies, to a new id) and each set's results (id to method)."""
-    rows, items = [], []
+    rows: list[Row] = []
+    items: list[dict[str, str]] = []
     for triple in sets:
         ids = {new_id(taken): method for method in methods}
         items.append(ids)
-        photos = [str(built / IMAGES / f"{copies[p]}{SUFFIX}") for p in triple.photos]
+        source_neutral, source_expression, target_neutral = (str(built / IMAGES / f"{copies[p]}{SUFFIX}") for p in triple.photos)
         for result, method in ids.items():
-            rows.append(Row(len(rows) + 1, *photos, str(built / IMAGES / f"{result}{SUFFIX}"), method, triple.lambda_k))
+            output = str(built / IMAGES / f"{result}{SUFFIX}")
+            rows.append(Row(len(rows) + 1, source_neutral, source_expression, target_neutral, output, method, triple.lambda_k))
     return rows, items
 
 
-def check_outcomes(manifest: str, sets: list[Triple], rows: list[Row], outcomes: dict, originals: dict[str, str]) -> None:
+def check_outcomes(
+    manifest: str, sets: list[Triple], rows: list[Row], outcomes: dict[int, work.Outcome], originals: dict[str, str]
+) -> None:
     """ExprCloneError for the first row that failed, naming its set and method, and its copies by the photos they came from."""
     failed = next((o for o in (outcomes[r.number] for r in rows) if o.status != "done"), None)
     if failed is None:
@@ -189,10 +198,12 @@ def check_outcomes(manifest: str, sets: list[Triple], rows: list[Row], outcomes:
     raise ExprCloneError(manifest, f"set {name!r}, method {rows[failed.number - 1].method}: {error}")
 
 
-def key(manifest: str, sets: list[Triple], methods: tuple[str, ...], items: list[dict], options: work.Options, size: int | None) -> dict:
+def key(
+    manifest: str, sets: list[Triple], methods: tuple[str, ...], items: list[dict[str, str]], options: work.JobOptions, size: int | None
+) -> dict[str, Any]:
     """What ``key.json`` holds: which result is which method, where each set came from, how the clones were made."""
-    settings = {"lambda": options.lambda_k, "mouth": options.mouth, "size": size, **options.transfer}
-    sets_ = [{"name": s.name, "photos": dict(zip(PHOTOS, s.photos)), "lambda": s.lambda_k, "items": i} for s, i in zip(sets, items)]
+    settings = {"lambda": options.lambda_k, "mouth": options.mouth, "size": size, **changed(options.options)}
+    sets_ = [{"name": s.name, "photos": dict(zip(ROLES, s.photos)), "lambda": s.lambda_k, "items": i} for s, i in zip(sets, items)]
     made = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     return {
         "format": FORMAT,
@@ -203,6 +214,17 @@ def key(manifest: str, sets: list[Triple], methods: tuple[str, ...], items: list
         "options": settings,
         "sets": sets_,
     }
+
+
+def changed(options: Options) -> dict[str, Any]:
+    """The clone options that differ from the defaults (the ones given on the command line), as JSON values.
+
+    >>> changed(Options()), changed(Options(strength=0.5, retarget=False))
+    ({}, {'strength': 0.5, 'retarget': False})
+    """
+    default = Options()
+    fields = (f.name for f in dataclasses.fields(Options) if f.name != "global_landmarks")  # a study's GI is never given
+    return {name: getattr(options, name) for name in fields if getattr(options, name) != getattr(default, name)}
 
 
 def install(built: Path, folder: Path) -> None:

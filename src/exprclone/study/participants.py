@@ -23,6 +23,7 @@ import secrets
 import threading
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from ..errors import ExprCloneError
 from .folder import FORMAT, RATINGS, Study, read_json, write_json
@@ -61,16 +62,16 @@ class Record:
     """One participant's file: ``about`` (None until they have been asked) and ``ratings``, set index to item to score."""
 
     participant: str
-    about: dict | None = None
+    about: dict[str, Any] | None = None
     ratings: dict[int, dict[str, int]] = field(default_factory=dict)
 
-    def data(self) -> dict:
+    def data(self) -> dict[str, Any]:
         """What the participant's file holds."""
         ratings = {str(k): v for k, v in sorted(self.ratings.items())}
         return {"format": FORMAT, "participant": self.participant, "about": self.about, "ratings": ratings}
 
 
-def check_about(about: dict, name: str) -> dict:
+def check_about(about: object, name: str) -> dict[str, Any]:
     """``{"age": int or None, "gender": one of GENDERS or None}``, or ExprCloneError about ``name``."""
     if not isinstance(about, dict) or set(about) != {"age", "gender"}:
         raise ExprCloneError(name, "about must have age and gender (each may be null)")
@@ -82,7 +83,7 @@ def check_about(about: dict, name: str) -> dict:
     return {"age": age, "gender": gender}
 
 
-def check_ratings(study: Study, set_index: int, ratings: dict, name: str) -> dict[str, int]:
+def check_ratings(study: Study, set_index: int, ratings: object, name: str) -> dict[str, int]:
     """A set's ratings: one score (a whole number in :data:`SCORES`) for each of its results and no other, or ExprCloneError."""
     if not 0 <= set_index < len(study.sets):
         raise ExprCloneError(name, f"no set {set_index}: the study has sets 0 to {len(study.sets) - 1}")
@@ -157,7 +158,7 @@ class Participants:
             raise NoSuchParticipant("participant", "no such participant in this study")
         return read_record(self.study, path)
 
-    def tell(self, participant: str, about: dict) -> Record:
+    def tell(self, participant: str, about: dict[str, Any]) -> Record:
         """Save what a participant told about themselves."""
         checked = check_about(about, "about")
         with self.lock:
@@ -166,7 +167,7 @@ class Participants:
             write_json(self.path(participant), record.data())
             return record
 
-    def rate(self, participant: str, set_index: int, ratings: dict) -> Record:
+    def rate(self, participant: str, set_index: int, ratings: dict[str, int]) -> Record:
         """Save a participant's ratings of one set (replacing any given before)."""
         checked = check_ratings(self.study, set_index, ratings, "ratings")
         with self.lock:
