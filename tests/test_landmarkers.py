@@ -71,7 +71,7 @@ def test_a_batch_places_and_caches_with_its_landmarker(tmp_path, name):
     manifest = tmp_path / "m.csv"
     manifest.write_text("source_neutral,source_expression,target_neutral,output\n" + ",".join(map(str, photos)) + ",out.png\n")
     outcomes = {}
-    job.run(read_manifest(str(manifest)), work.Options(method="global", landmarker=name), job.Local(1), outcomes, cache=tmp_path / "c")
+    job.run(read_manifest(str(manifest)), work.JobOptions(method="global", landmarker=name), job.Local(1), outcomes, cache=tmp_path / "c")
     assert [o.status for o in outcomes.values()] == ["done"]
     cached = sorted(p.name for p in (tmp_path / "c").iterdir())
     assert len(cached) == 3 and all(p.endswith(f"-{name}.json") for p in cached)
