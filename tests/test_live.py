@@ -212,6 +212,9 @@ def test_strength_and_regions_reach_a_session_and_can_change_in_it():
 
 def test_a_bad_transfer_option_is_refused_at_the_start(live_server):
     with connect(live_server) as bad:
+        bad.send('{"type": "start", "landmarker": "hog"}')
+        assert json.loads(bad.recv())["error"].startswith("landmarker: unknown landmarker 'hog'")
+    with connect(live_server) as bad:
         bad.send('{"type": "start", "strength": 3}')
         bad.send(samples.path("003").read_bytes())
         assert json.loads(bad.recv())["error"].startswith("strength: must be a number from 0 to 2")

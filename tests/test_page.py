@@ -72,6 +72,7 @@ def test_the_transfer_controls_reach_the_clone(page):
     page.fill("#strength", "0.5")
     page.uncheck(".region[value=eyes]")
     page.uncheck("#retarget")
+    page.select_option("#landmarker", "mesh")
     page.evaluate("document.querySelector('img#result').removeAttribute('src')")
     page.click("#clone")
     page.wait_for_function(
@@ -79,7 +80,8 @@ def test_the_transfer_controls_reach_the_clone(page):
     )
     caption = page.text_content("#result-caption")
     assert "global warp rbf" in caption and "tps" in caption and "strength 0.5" in caption and "only mouth, brows" in caption, caption
-    assert "no retarget" in caption, caption
+    assert "no retarget" in caption and "mesh landmarks" in caption, caption
+    page.select_option("#landmarker", "dlib")
     page.check(".region[value=eyes]")
     page.check("#retarget")
     page.select_option("#global-warp", "")

@@ -21,6 +21,7 @@ from exprclone import data as samples
 from exprclone.io.images import load_image
 from exprclone.io.landmarks import read_landmarks, write_landmarks
 from exprclone.io.video import probe, read_frames
+from exprclone.landmarkers import LANDMARKERS
 from exprclone.layout import DLIB68
 from exprclone.lips import uncross
 
@@ -96,6 +97,18 @@ def test_landmarks_of_one_photo(client):
     assert (found["width"], found["height"]) == (1350, 1350) and np.array(found["landmarks"]).shape == (68, 2)
 
 
+@pytest.mark.parametrize("name", LANDMARKERS)
+def test_each_landmarker_reaches_the_api_and_the_record(client, name):
+    photo = samples.path("001").read_bytes()
+    found = client.post("/api/landmarks", files={"photo": ("p.jpg", photo)}, data={"landmarker": name}).json()
+    expected = exprclone.models.landmarker(name).detect(load_image(samples.path("001")))
+    assert np.abs(np.array(found["landmarks"]) - expected).max() < 0.01
+    r = client.post("/api/clone?format=json", files=files(), data={"method": "global", "landmarker": name})
+    assert r.status_code == 200 and r.json()["landmarker"] == name, r.text
+    bad = client.post("/api/landmarks", files={"photo": ("p.jpg", photo)}, data={"landmarker": "hog"})
+    assert bad.status_code == 400 and bad.json()["error"].startswith("landmarker: unknown landmarker 'hog'")
+
+
 @pytest.mark.parametrize(
     "replaced, form, status, message",
     [
@@ -104,6 +117,7 @@ def test_landmarks_of_one_photo(client):
         (dict(target_neutral=("t.png", grey())), {}, 422, "target_neutral: no face found"),
         ({}, {"method": "warp"}, 400, "method: unknown method 'warp'"),
         ({}, {"lambda": "-1"}, 400, "lambda: must be 'auto' or a number >= 0"),
+        ({}, {"landmarker": "hog"}, 400, "landmarker: unknown landmarker 'hog': choose one of dlib, mesh"),
         ({}, {"lambda": "nan"}, 400, "lambda: "),
         ({}, {"mouth": "perhaps"}, 400, "mouth: "),
         (dict(target_neutral_landmarks=("t.txt", b"[]")), {}, 400, "target_neutral_landmarks: a landmark file must be .json or .tem"),
@@ -338,6 +352,7 @@ def test_bad_transfer_options_are_one_line_errors_naming_the_field(client, repla
 
 def test_a_video_job_with_the_transfer_options(client):
     form = {"size": "96", "method": "e+md", "global_warp": "rbf", "image_warp": "tps", "strength": "1.5", "only": "mouth"}
+    form["landmarker"] = "mesh"
     video_files = {"portrait": ("p.jpg", samples.path("003").read_bytes()), "driving_video": ("c.mp4", samples.clip().read_bytes())}
     job = client.post("/api/video", files=video_files, data=form).json()
     for _ in range(600):

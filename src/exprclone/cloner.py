@@ -56,6 +56,9 @@ class CloneResult:
         Control points moved to stop triangles folding over.
     options : Options
         How it was made beyond its method: the global and image warps, strength and regions.
+    landmarker : str or None
+        Which landmarker placed the photos' landmarks (:data:`exprclone.landmarkers.LANDMARKERS`),
+        None when all were given.
     """
 
     image: np.ndarray
@@ -69,6 +72,7 @@ class CloneResult:
     mouth_mask: np.ndarray | None = None
     unfolded_points: int = 0
     options: Options = Options()
+    landmarker: str | None = None
 
 
 class Cloner:

@@ -36,10 +36,9 @@ from .checks import check_image, check_lambda, check_options, options_from
 from .cloner import Cloner, CloneResult
 from .eigenface import Eigenfaces
 from .errors import ExprCloneError, NoFaceError
-from .landmarks import Detector
+from .landmarkers import DEFAULT, Landmarker, resolve
 from .layout import DLIB68, Layout
 from .methods import lookup
-from .models import default_detector
 from .options import Options
 from .roles import SOURCE_NEUTRAL, TARGET_NEUTRAL
 
@@ -251,7 +250,7 @@ def prepare(
     lambda_k: float | str = "auto",
     lambda_per_frame: bool = False,
     smooth: bool = True,
-    detector: Detector | None = None,
+    landmarker: str | Landmarker = DEFAULT,
     eigenfaces: Eigenfaces | None = None,
     layout: Layout = DLIB68,
     name: str = "driving_video",
@@ -281,8 +280,8 @@ def prepare(
         performance (the module's notes), or per frame if ``lambda_per_frame``.
     smooth : bool
         Smooth the landmarks over time (:func:`tracking.smooth`); False uses the raw fits.
-    detector, eigenfaces, layout
-        As for :func:`exprclone.pipeline.clone_methods`.
+    landmarker, eigenfaces, layout
+        As for :func:`exprclone.pipeline.clone_methods`; the landmarker also tracks the performance.
     name : str
         What the performance is, for errors (a role, or the caller's file name).
     head_motion, mouth : bool
@@ -296,7 +295,7 @@ def prepare(
     check_lambda(lambda_k)
     target = check_image(target, TARGET_NEUTRAL)
     asked = check_options(options_from(options, keywords), layout.n_points, target.shape, tuple(layout.regions))
-    detector = detector or default_detector()
+    detector = resolve(landmarker)
     track = tracking.track(open_frames(), detector, name)
     points = tracking.smooth(track.points, fps) if smooth else track.points
     index = None

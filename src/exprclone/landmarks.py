@@ -36,6 +36,9 @@ def model_path(name: str) -> str:
 class Detector:
     """Face detector plus 68-point shape predictor, loaded lazily on first use."""
 
+    #: its name among :data:`exprclone.landmarkers.LANDMARKERS`.
+    name = "dlib"
+
     def __init__(self) -> None:
         # dlib's module, face detector and shape predictor, loaded by _load (dlib has no type information)
         self._dlib: Any = None

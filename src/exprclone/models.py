@@ -5,13 +5,24 @@ from __future__ import annotations
 import functools
 
 from .eigenface import Eigenfaces
-from .landmarks import Detector
+from .landmarkers import DEFAULT, Landmarker, check_landmarker
 
 
 @functools.cache
-def default_detector() -> Detector:
-    """One shared lazily-loaded detector for calls that pass none."""
+def landmarker(name: str) -> Landmarker:
+    """The process's one landmarker of that name (:data:`exprclone.landmarkers.LANDMARKERS`), loaded lazily on its first detection."""
+    if check_landmarker(name) == "mesh":
+        from .facemesh import MeshDetector
+
+        return MeshDetector()
+    from .landmarks import Detector
+
     return Detector()
+
+
+def default_detector() -> Landmarker:
+    """The default landmarker (:data:`exprclone.landmarkers.DEFAULT`), shared, for calls that pass none."""
+    return landmarker(DEFAULT)
 
 
 @functools.cache

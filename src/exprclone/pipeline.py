@@ -17,6 +17,7 @@ is first made the target's (:mod:`exprclone.retarget`, not in the paper;
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
@@ -24,10 +25,9 @@ import numpy as np
 from .checks import check_image, check_lambda, check_points, options_from
 from .cloner import Cloner, CloneResult
 from .eigenface import Eigenfaces
-from .landmarks import Detector
+from .landmarkers import DEFAULT, Landmarker, name_of, resolve
 from .layout import DLIB68, Layout
 from .methods import METHODS, lookup
-from .models import default_detector
 from .options import Options
 from .roles import ROLES
 
@@ -42,7 +42,7 @@ def clone(
     lambda_k: float | str = "auto",
     landmarks: tuple[np.ndarray | None, np.ndarray | None, np.ndarray | None] | None = None,
     *,
-    detector: Detector | None = None,
+    landmarker: str | Landmarker = DEFAULT,
     eigenfaces: Eigenfaces | None = None,
     layout: Layout = DLIB68,
     mouth: bool = True,
@@ -61,7 +61,7 @@ def clone(
         Elasticity ratio ``k_A' / k_N`` (Eq. 6); "auto" picks it by the DB metric (Eq. 8).
     landmarks : tuple of three (N, 2) arrays or None, optional
         Known landmarks for each photo; None entries are detected.
-    detector, eigenfaces, layout, mouth, options, **keywords
+    landmarker, eigenfaces, layout, mouth, options, **keywords
         See :func:`clone_methods`.
 
     Returns
@@ -80,7 +80,7 @@ def clone(
         (method,),
         lambda_k,
         landmarks,
-        detector=detector,
+        landmarker=landmarker,
         eigenfaces=eigenfaces,
         layout=layout,
         mouth=mouth,
@@ -98,7 +98,7 @@ def clone_methods(
     lambda_k: float | str = "auto",
     landmarks: tuple[np.ndarray | None, np.ndarray | None, np.ndarray | None] | None = None,
     *,
-    detector: Detector | None = None,
+    landmarker: str | Landmarker = DEFAULT,
     eigenfaces: Eigenfaces | None = None,
     layout: Layout = DLIB68,
     mouth: bool = True,
@@ -113,8 +113,10 @@ def clone_methods(
         As for :func:`clone`.
     methods : tuple of str
         Any of :data:`METHODS`.
-    detector : Detector, optional
-        Landmark detector for photos without given landmarks.
+    landmarker : str or Landmarker
+        What places the landmarks of photos without given ones: a name of
+        :data:`exprclone.landmarkers.LANDMARKERS` (``"dlib"``, the default, or ``"mesh"``),
+        or any object with their methods (:class:`exprclone.landmarkers.Landmarker`).
     eigenfaces : Eigenfaces, optional
         Basis of the DB metric; the packaged one by default.
     layout : Layout
@@ -148,10 +150,12 @@ def clone_methods(
     asked = options_from(options, keywords)
     images = [check_image(im, role) for im, role in zip((source_neutral, source_expression, target_neutral), ROLES)]
     given = landmarks if landmarks is not None else (None, None, None)
-    detector = detector or default_detector()
+    name, detector = name_of(landmarker), resolve(landmarker)
     s_neu, s_exp, t_neu = (
         detector.detect(im, role) if p is None else check_points(p, im.shape, layout.n_points, role)
         for im, p, role in zip(images, given, ROLES)
     )
     cloner = Cloner(images[0], s_neu, images[2], t_neu, eigenfaces=eigenfaces, layout=layout, options=asked)
-    return cloner.clone_methods(images[1], s_exp, methods, lambda_k, mouth=mouth)
+    results = cloner.clone_methods(images[1], s_exp, methods, lambda_k, mouth=mouth)
+    placed = name if any(p is None for p in given) else None
+    return {m: dataclasses.replace(r, landmarker=placed) for m, r in results.items()}

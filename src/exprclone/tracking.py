@@ -1,9 +1,9 @@
 """Landmarks through a video: detect once, follow the face, smooth over time.
 
 The paper drives its portraits from AAM-tracked video (Sec. IV, Fig. 18). We track with
-dlib: the HOG detector finds the face once, then each frame's 68 landmarks are fitted
-inside a box predicted from the previous frame's landmarks, which costs about a
-millisecond instead of a detection. The detector runs again when the fit says the face
+either landmarker (:mod:`exprclone.landmarkers`): its face detector finds the face once,
+then each frame's 68 landmarks are fitted inside a box predicted from the previous
+frame's landmarks, which costs a few milliseconds instead of a detection. The detector runs again when the fit says the face
 was lost (the fitted landmarks disagree with the box they were fitted in), and every
 :data:`CHECK_EVERY` frames on a small crop around the face, to notice a face that has
 gone. Frames where no face is found keep the last good landmarks and are counted.
@@ -25,7 +25,7 @@ import numpy as np
 from scipy.signal import savgol_filter
 
 from .errors import NoFaceError
-from .landmarks import Detector
+from .landmarkers import Landmarker
 from .layout import DLIB68, Layout
 
 #: every this many frames the detector confirms that the tracked face is still there.
@@ -90,7 +90,7 @@ class Tracker:
 
     Parameters
     ----------
-    detector : Detector
+    detector : Landmarker
 
     Attributes
     ----------
@@ -102,7 +102,7 @@ class Tracker:
         Whether the detector saw the face on the last frame (a check or a detection).
     """
 
-    def __init__(self, detector: Detector) -> None:
+    def __init__(self, detector: Landmarker) -> None:
         self.detector = detector
         self.detections = 0
         self.checks = 0
@@ -185,7 +185,7 @@ class Tracker:
         return found
 
 
-def track(frames: Iterable[np.ndarray], detector: Detector, name: str = "video") -> Track:
+def track(frames: Iterable[np.ndarray], detector: Landmarker, name: str = "video") -> Track:
     """Landmarks of every frame, as fitted by a :class:`Tracker`.
 
     When the detector finds no face, the frames since it last saw one count as without a

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import functools
 import hashlib
 import json
 import multiprocessing
@@ -31,6 +32,7 @@ import numpy as np
 
 from ..errors import ExprCloneError
 from ..io.progress import Display, Progress, Quiet
+from ..landmarkers import DEFAULT
 from . import work
 from .manifest import COLUMNS, Row
 
@@ -117,8 +119,11 @@ def fingerprint(path: str) -> str | None:
         return None
 
 
-def find_landmarks(photos: Iterable[str], run: Map, cache: Path | None, progress: Progress) -> tuple[dict[str, np.ndarray], dict[str, str]]:
-    """Every photo's landmarks, each distinct content detected once (or read from ``cache``).
+def find_landmarks(
+    photos: Iterable[str], run: Map, cache: Path | None, progress: Progress, landmarker: str = DEFAULT
+) -> tuple[dict[str, np.ndarray], dict[str, str]]:
+    """Every photo's landmarks placed by ``landmarker``, each distinct content detected once (or read from ``cache``,
+    where each landmarker's are kept apart).
 
     Returns
     -------
@@ -129,16 +134,16 @@ def find_landmarks(photos: Iterable[str], run: Map, cache: Path | None, progress
     digests = {p: fingerprint(p) for p in dict.fromkeys(photos)}
     problems = {p: "no such file, or it cannot be read" for p, d in digests.items() if d is None}
     readable = {p: d for p, d in digests.items() if d is not None}
-    found: dict[str, np.ndarray | str | None] = {d: _cached(cache, d) for d in set(readable.values())}
+    found: dict[str, np.ndarray | str | None] = {d: _cached(cache, d, landmarker) for d in set(readable.values())}
     missing = sorted(d for d, points in found.items() if points is None)
     first_path = {d: p for p, d in reversed(readable.items())}
     chunks = [missing[k : k + DETECT_CHUNK] for k in range(0, len(missing), DETECT_CHUNK)]
     bar, done = progress(len(missing), "photos"), 0
-    for k, results in run(work.detect, [[first_path[d] for d in chunk] for chunk in chunks]):
+    for k, results in run(functools.partial(work.detect, landmarker=landmarker), [[first_path[d] for d in chunk] for chunk in chunks]):
         for digest, (points, problem) in zip(chunks[k], results):
             found[digest] = points if points is not None else problem
             if cache is not None and points is not None:
-                (cache / f"{digest}.json").write_text(json.dumps({"landmarks": points.tolist()}))
+                (cache / f"{digest}-{landmarker}.json").write_text(json.dumps({"landmarks": points.tolist()}))
         done += len(chunks[k])
         bar.update(done)
     landmarks = {}
@@ -151,8 +156,8 @@ def find_landmarks(photos: Iterable[str], run: Map, cache: Path | None, progress
     return landmarks, problems
 
 
-def _cached(cache: Path | None, digest: str) -> np.ndarray | None:
-    path = None if cache is None else cache / f"{digest}.json"
+def _cached(cache: Path | None, digest: str, landmarker: str) -> np.ndarray | None:
+    path = None if cache is None else cache / f"{digest}-{landmarker}.json"
     return None if path is None or not path.is_file() else np.array(json.loads(path.read_text())["landmarks"], float)
 
 
@@ -191,7 +196,7 @@ def run(
     if cache is not None:
         cache.mkdir(parents=True, exist_ok=True)
     with backend.running() as map_:
-        landmarks, problems = find_landmarks((p for row in to_do for p in row.photos), map_, cache, progress)
+        landmarks, problems = find_landmarks((p for row in to_do for p in row.photos), map_, cache, progress, options.landmarker)
         ready = []
         for row in to_do:
             bad = next((p for p in row.photos if p in problems), None)

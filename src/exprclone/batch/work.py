@@ -1,9 +1,9 @@
 """The work of a batch job, done in a worker: a local process or a Dask worker.
 
 Tasks are plain functions over small, picklable arguments (paths, landmarks, options),
-and read and write the files at the paths given. A worker loads the detector and the
-eigenface basis once, on its first task (:func:`exprclone.models.default_detector` and
-``default_eigenfaces`` keep them), and keeps them for every task after.
+and read and write the files at the paths given. A worker loads the landmarker and the
+eigenface basis once, on its first task (:func:`exprclone.models.landmarker` and
+:func:`exprclone.models.default_eigenfaces` keep them), and keeps them for every task after.
 
 A clone at 1350 pixels allocates and frees buffers of 22 MB (a float image). glibc's
 malloc keeps such buffers in its heap after the first few are freed, unless a
@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ExprCloneError, naming
+from ..landmarkers import DEFAULT
 from ..options import Options
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .manifest import Row
@@ -41,13 +42,14 @@ M_TRIM_THRESHOLD, M_MMAP_THRESHOLD, BUFFER_BYTES = -1, -3, 32 * 1024 * 1024
 @dataclass(frozen=True)
 class JobOptions:
     """The job's options: ``method`` and ``lambda_k`` for rows that do not set their own, and for every row the
-    mouth interior and the :class:`~exprclone.options.Options` of the :class:`~exprclone.cloner.Cloner` (global and
-    image warp, strength, regions, retargeting)."""
+    mouth interior, the :class:`~exprclone.options.Options` of the :class:`~exprclone.cloner.Cloner` (global and
+    image warp, strength, regions, retargeting) and the ``landmarker`` (:data:`exprclone.landmarkers.LANDMARKERS`)."""
 
     method: str = "e+md"
     lambda_k: float | str = "auto"
     mouth: bool = True
     options: Options = Options()
+    landmarker: str = DEFAULT
 
 
 @dataclass(frozen=True)
@@ -81,10 +83,10 @@ def keep_buffers() -> None:
     libc.mallopt(M_TRIM_THRESHOLD, 2 * BUFFER_BYTES)
 
 
-def detect(paths: list[str]) -> list[tuple[np.ndarray | None, str]]:
-    """The landmarks of each photo, or the problem that stopped them (no face, not an image)."""
+def detect(paths: list[str], landmarker: str = DEFAULT) -> list[tuple[np.ndarray | None, str]]:
+    """The landmarks of each photo placed by ``landmarker``, or the problem that stopped them (no face, not an image)."""
     from ..io.images import load_image
-    from ..models import default_detector
+    from ..models import landmarker as shared
 
     keep_buffers()
 
@@ -93,7 +95,7 @@ def detect(paths: list[str]) -> list[tuple[np.ndarray | None, str]]:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                found.append((default_detector().detect(load_image(path), path), ""))
+                found.append((shared(landmarker).detect(load_image(path), path), ""))
         except ExprCloneError as e:
             found.append((None, e.problem))
     return found

@@ -8,7 +8,7 @@ import sys
 from typing import TYPE_CHECKING
 
 from ..errors import ExprCloneError
-from .inputs import add_lambda, add_mouth, add_transfer, transfer_options
+from .inputs import add_lambda, add_landmarker, add_mouth, add_transfer, transfer_options
 
 if TYPE_CHECKING:
     from ..batch.job import Dask, Local
@@ -29,6 +29,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     b.add_argument("--out", metavar="DIR", help="where outputs go (default: the manifest's folder; needed with --targets)")
     b.add_argument("--method", choices=METHODS, default="e+md", help="for rows without their own method (default: e+md)")
     add_lambda(b, "for rows without their own lambda: auto (the DB metric) or a number (default: auto)")
+    add_landmarker(b)
     add_mouth(b)
     add_transfer(b, given=False)
     add_workers(b)
@@ -79,7 +80,7 @@ def run(args: argparse.Namespace) -> None:
     rows = rows_of(args)
     folder = Path(args.out or Path(args.manifest).resolve().parent)
     report = args.report or str(folder / "report.csv")
-    options = work.JobOptions(args.method, args.lambda_k, args.mouth, transfer_options(args))
+    options = work.JobOptions(args.method, args.lambda_k, args.mouth, transfer_options(args), args.landmarker)
     cache = None if args.cache is None else Path(args.cache)
     outcomes: dict[int, work.Outcome] = {}
     try:

@@ -10,7 +10,7 @@ from typing import Any
 
 from ..errors import ExprCloneError
 from ..options import GLOBAL_WARPS, IMAGE_WARPS
-from .inputs import strength_arg
+from .inputs import add_landmarker, strength_arg
 
 
 def listed(parse: Callable[[str], Any] | tuple[str, ...], name: str) -> Callable[[str], tuple[Any, ...]]:
@@ -41,6 +41,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     e.add_argument("--methods", default="all", help="comma-separated methods, or all (default)")
     e.add_argument("--out", default="report", help="report folder (default: report/)")
     e.add_argument("--jobs", type=int, default=1, help="processes to use (default 1)")
+    add_landmarker(e, "places the clones' landmarks (the scores' are always dlib's, so that both compare)")
     variants = "; every combination of --global-warps, --image-warps, --strengths and --retargets is a variant, scored beside the others"
     e.add_argument(
         "--global-warps",
@@ -89,7 +90,7 @@ def run(args: argparse.Namespace) -> None:
     pairs = data.pairs(args.pairs, args.seed)
     chosen = variants(args.global_warps, args.image_warps, args.strengths, args.retargets)
     bar = lambda total, what: Bar(sys.stderr, total, what)  # noqa: E731
-    rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=bar, variants=chosen)
+    rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=bar, variants=chosen, landmarker=args.landmarker)
     command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"
     write_report(Path(args.out), data, rows, landmarks, methods, command, chosen)
     print(table(summarise(rows)))

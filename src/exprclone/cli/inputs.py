@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import ExprCloneError, naming
+from ..landmarkers import DEFAULT, LANDMARKERS
 from ..options import GLOBAL_WARPS, IMAGE_WARPS, REGIONS, STRENGTH_RANGE, Options
 from ..roles import ROLES
 
@@ -83,9 +84,21 @@ def add_inputs(p: argparse.ArgumentParser) -> None:
             metavar="FILE",
             help=f"landmarks of the {which.replace('-', ' ')} photo (.json, or a WebMorph .tem) instead of detecting them",
         )
+    add_landmarker(p)
     add_eigenfaces(p)
     add_mouth(p)
     add_transfer(p, given=True)
+
+
+def add_landmarker(p: argparse.ArgumentParser, what: str = "places the landmarks of photos without given ones") -> None:
+    """``--landmarker``: one of :data:`exprclone.landmarkers.LANDMARKERS`."""
+    p.add_argument(
+        "--landmarker",
+        choices=LANDMARKERS,
+        default=DEFAULT,
+        help=f"which landmarker {what}: dlib, whose model's licence excludes commercial use, or mesh, MediaPipe's face"
+        f" mesh (Apache-2.0) (default: {DEFAULT})",
+    )
 
 
 def add_transfer(p: argparse.ArgumentParser, given: bool) -> None:
@@ -163,14 +176,15 @@ def add_mouth(p: argparse.ArgumentParser) -> None:
     )
 
 
-def load_eigenfaces(path: str | None) -> Eigenfaces | None:
-    """The basis named by ``--eigenfaces``: None (packaged), a .npz, or a folder of photos of one person to train on."""
+def load_eigenfaces(path: str | None, landmarker: str = DEFAULT) -> Eigenfaces | None:
+    """The basis named by ``--eigenfaces``: None (packaged), a .npz, or a folder of photos of one person to train on
+    (their landmarks placed by ``landmarker``)."""
     if path is None:
         return None
     from ..eigenface import Eigenfaces, train
     from ..io.images import PHOTO_SUFFIXES, load_image
     from ..layout import DLIB68
-    from ..models import default_detector
+    from ..models import landmarker as shared
 
     p = Path(path)
     if p.is_dir():
@@ -178,7 +192,7 @@ def load_eigenfaces(path: str | None) -> Eigenfaces | None:
         if len(photos) < 3:
             raise ExprCloneError(path, f"needs at least 3 face photos to train eigenfaces, found {len(photos)}")
         images = [load_image(q) for q in photos]
-        return train(((im, default_detector().detect(im, q)) for im, q in zip(images, photos)), DLIB68)
+        return train(((im, shared(landmarker).detect(im, q)) for im, q in zip(images, photos)), DLIB68)
     try:
         return Eigenfaces.load(p)
     except (OSError, ValueError, KeyError) as e:
@@ -200,6 +214,8 @@ class Inputs:
     eigenfaces : Eigenfaces or None
     mouth : bool
     options : Options
+    landmarker : str
+        Places the landmarks not given (:data:`exprclone.landmarkers.LANDMARKERS`).
     """
 
     names: dict[str, str]
@@ -209,6 +225,7 @@ class Inputs:
     eigenfaces: Eigenfaces | None
     mouth: bool
     options: Options
+    landmarker: str = DEFAULT
 
     def clone(self, methods: tuple[str, ...]) -> dict[str, CloneResult]:
         """The photos cloned by ``methods`` (:func:`exprclone.clone_methods`); errors name the command line's files."""
@@ -216,7 +233,14 @@ class Inputs:
 
         with naming(self.names):
             return clone_methods(
-                *self.images, methods, self.lambda_k, self.landmarks, eigenfaces=self.eigenfaces, mouth=self.mouth, options=self.options
+                *self.images,
+                methods,
+                self.lambda_k,
+                self.landmarks,
+                landmarker=self.landmarker,
+                eigenfaces=self.eigenfaces,
+                mouth=self.mouth,
+                options=self.options,
             )
 
 
@@ -233,5 +257,6 @@ def load_inputs(args: argparse.Namespace) -> Inputs:
     if args.global_landmarks:
         options = dataclasses.replace(options, global_landmarks=read_landmarks(args.global_landmarks, tn.shape))
         paths["global_landmarks"] = args.global_landmarks
-    eigenfaces = load_eigenfaces(args.eigenfaces)
-    return Inputs(paths, (sn, se, tn), (read[0], read[1], read[2]), args.lambda_k, eigenfaces, args.mouth, options)
+    eigenfaces = load_eigenfaces(args.eigenfaces, args.landmarker)
+    given = (read[0], read[1], read[2])
+    return Inputs(paths, (sn, se, tn), given, args.lambda_k, eigenfaces, args.mouth, options, args.landmarker)

@@ -8,7 +8,7 @@ import sys
 from ..errors import ExprCloneError
 from .batch import add_workers, backend_of
 from .evaluate import listed
-from .inputs import add_lambda, add_mouth, add_transfer, transfer_options
+from .inputs import add_lambda, add_landmarker, add_mouth, add_transfer, transfer_options
 from .serve import add_address
 
 
@@ -31,6 +31,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         "--size", type=int, metavar="PIXELS", help="make the photos at most this long on their longest side (default: as they are)"
     )
     add_lambda(m, "for sets without their own lambda: auto (the DB metric) or a number (default: auto)")
+    add_landmarker(m)
     add_mouth(m)
     add_transfer(m, given=False)
     add_workers(m)
@@ -53,7 +54,7 @@ def make(args: argparse.Namespace) -> None:
     from ..io.progress import Bar
     from ..study.make import make as make_study
 
-    options = work.JobOptions(lambda_k=args.lambda_k, mouth=args.mouth, options=transfer_options(args))
+    options = work.JobOptions(lambda_k=args.lambda_k, mouth=args.mouth, options=transfer_options(args), landmarker=args.landmarker)
     backend = backend_of(args)
     make_study(
         args.manifest,

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import ExprCloneError
 from ..roles import SOURCE_NEUTRAL, TARGET_NEUTRAL
-from .inputs import add_eigenfaces, add_lambda, add_mouth, add_transfer, frame_arg, transfer_options
+from .inputs import add_eigenfaces, add_lambda, add_landmarker, add_mouth, add_transfer, frame_arg, transfer_options
 
 if TYPE_CHECKING:
     import numpy as np
@@ -45,6 +45,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     v.add_argument("--size", type=int, metavar="PIXELS", help="scale the portrait so its longest side has this many pixels")
     v.add_argument("--no-smooth", dest="smooth", action="store_false", help="use the raw per-frame landmarks, without temporal smoothing")
     v.add_argument("--target-neutral-landmarks", metavar="FILE", help="landmarks of the portrait (.json or .tem) instead of detecting them")
+    add_landmarker(v, "places and tracks the landmarks")
     add_eigenfaces(v)
     add_mouth(v)
     add_transfer(v, given=False)
@@ -81,7 +82,8 @@ def prepare(args: argparse.Namespace, inputs: list[str]) -> tuple[VideoInfo, Rec
             lambda_k=args.lambda_k,
             lambda_per_frame=args.lambda_per_frame,
             smooth=args.smooth,
-            eigenfaces=load_eigenfaces(args.eigenfaces),
+            landmarker=args.landmarker,
+            eigenfaces=load_eigenfaces(args.eigenfaces, args.landmarker),
             head_motion=args.head_motion,
             mouth=args.mouth,
             options=transfer_options(args),

@@ -42,8 +42,9 @@ from ..cloner import CloneResult
 from ..errors import ExprCloneError, naming
 from ..io.images import load_image
 from ..io.progress import Progress, Quiet
+from ..landmarkers import DEFAULT
 from ..layout import DLIB68
-from ..models import default_detector
+from ..models import landmarker as shared
 from ..mouth import mouth_width
 from ..options import GLOBAL_WARPS, IMAGE_WARPS, Options
 from ..pipeline import clone_methods
@@ -51,6 +52,9 @@ from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .london import Dataset
 from .scores import FaceDescriptor, identity_distance, landmark_error, teeth
 
+#: the landmarker that scores every result (on it, on the real smile, for the identity descriptor), whichever
+#: landmarker placed the clone's own landmarks (:func:`run`'s ``landmarker``): so that scores of both compare.
+JUDGE = "dlib"
 #: one variant of the clone's options: the label its rows' names carry (:func:`variant_label`), and the options.
 Variant = tuple[str, Options]
 #: one row of scores (:data:`FIELDS`).
@@ -162,8 +166,12 @@ def score_pair(
     methods: tuple[str, ...],
     landmarks: dict[str, np.ndarray],
     variants: tuple[Variant, ...] = (PAPER,),
+    inputs: dict[str, np.ndarray] | None = None,
 ) -> list[Row]:
     """Clone A's smile onto B by each method in each variant (:func:`variants`) and score it; also the two references.
+
+    ``landmarks`` are the :data:`JUDGE`'s, by path; the clones start from ``inputs`` (another
+    landmarker's, by path), or from ``landmarks`` too when it is None.
 
     Returns
     -------
@@ -181,7 +189,7 @@ def score_pair(
         "real": (photo(ts), "", None, ""),
     }
     for variant in variants:
-        candidates.update(_candidates(data, pair, methods, landmarks, variant))
+        candidates.update(_candidates(data, pair, methods, landmarks if inputs is None else inputs, variant))
     rows = []
     for method, (image, failed, lam, label) in candidates.items():
         row: Row = dict.fromkeys(FIELDS, "")
@@ -191,7 +199,7 @@ def score_pair(
         if image is not None:
             try:
                 known = {"real": landmarks[ts], "no change": landmarks[tn]}
-                found = known[method] if method in known else default_detector().detect(image, f"{method} result")
+                found = known[method] if method in known else shared(JUDGE).detect(image, f"{method} result")
                 row.update(landmark_error(found, truth, DLIB68))
                 row["identity"] = identity_distance(_descriptor()(image, found), target_descriptor)
                 row["teeth"] = round(teeth(image, found, DLIB68), 5)
@@ -202,7 +210,9 @@ def score_pair(
     return rows
 
 
-def _score(args: tuple[Dataset, tuple[str, str], tuple[str, ...], dict[str, np.ndarray], tuple[Variant, ...]]) -> list[Row]:
+def _score(
+    args: tuple[Dataset, tuple[str, str], tuple[str, ...], dict[str, np.ndarray], tuple[Variant, ...], dict[str, np.ndarray]],
+) -> list[Row]:
     return score_pair(*args)
 
 
@@ -213,8 +223,10 @@ def run(
     jobs: int = 1,
     progress: Progress = Quiet,
     variants: tuple[Variant, ...] = (PAPER,),
+    landmarker: str = DEFAULT,
 ) -> tuple[list[Row], dict[str, np.ndarray]]:
-    """Score every pair (in ``jobs`` processes), each method in each of ``variants`` (:func:`variants`).
+    """Score every pair (in ``jobs`` processes), each method in each of ``variants`` (:func:`variants`), the clones'
+    landmarks placed by ``landmarker`` (:data:`exprclone.landmarkers.LANDMARKERS`), the scores' by the :data:`JUDGE`.
 
     ``progress(total, what)`` makes a display of how many of ``total``
     things are done (:data:`exprclone.io.progress.Progress`): one for the photos'
@@ -225,17 +237,19 @@ def run(
     rows : list of dict
         :func:`score_pair`'s rows of every pair.
     landmarks : dict of str to ndarray
-        The landmarks detected on each photo, by path (detected once, shared by all pairs).
+        The judge's landmarks on each photo, by path (detected once, shared by all pairs).
     """
     people = sorted({p for pair in pairs for p in pair})
     paths = [data.path(p, s) for p in people for s in (False, True)]
     landmarks: dict[str, np.ndarray] = {}
+    inputs: dict[str, np.ndarray] = {}
     bar = progress(len(paths), "landmarks")
     for k, path in enumerate(paths, 1):
-        landmarks[path] = default_detector().detect(photo(path), path)
+        landmarks[path] = shared(JUDGE).detect(photo(path), path)
+        inputs[path] = landmarks[path] if landmarker == JUDGE else shared(landmarker).detect(photo(path), path)
         bar.update(k)
     rows: list[Row] = []
-    tasks = [(data, pair, methods, landmarks, variants) for pair in pairs]
+    tasks = [(data, pair, methods, landmarks, variants, inputs) for pair in pairs]
     bar, start = progress(len(pairs), "pairs"), time.perf_counter()
     with multiprocessing.get_context("fork").Pool(jobs) if jobs > 1 else contextlib.nullcontext() as pool:
         for k, pair_rows in enumerate(pool.imap(_score, tasks) if pool else map(_score, tasks), 1):

@@ -26,7 +26,8 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
     Returns
     -------
     dict
-        ``inputs``, ``method``, ``options`` (``global_warp``: similarity, rbf or given;
+        ``inputs``, ``method``, ``landmarker`` (which placed the photos' landmarks, null when
+        all were given), ``options`` (``global_warp``: similarity, rbf or given;
         ``image_warp``, ``strength``, ``only``, ``retarget``), ``lambda_k``, ``db_curve`` (lambda_k and
         DB of each candidate), ``muscle_strengths``, ``unfolded_points`` and
         ``landmarks`` (of each stage, to 1/1000 pixel).
@@ -35,6 +36,7 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
     return {
         "inputs": dict(inputs),
         "method": result.method,
+        "landmarker": result.landmarker,
         "options": {
             "global_warp": options.global_stage,
             "image_warp": options.image_warp,

@@ -18,6 +18,7 @@ from .. import data as samples
 from ..checks import check_choices, parse_lambda
 from ..errors import ExprCloneError, naming
 from ..io.video import probe
+from ..landmarkers import DEFAULT, LANDMARKERS, check_landmarker
 from ..methods import FIGURES, METHODS, lookup
 from ..options import GLOBAL_WARPS, IMAGE_WARPS, REGIONS, STRENGTH_RANGE, Options
 from ..roles import ROLES, SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
@@ -46,6 +47,10 @@ Landmarks = Annotated[UploadFile | None, File(description='its landmarks: .json 
 Method = Annotated[str, Form(description=f"one of {', '.join(METHODS)}")]
 Lambda = Annotated[str, Form(alias="lambda", description="the elasticity ratio k_A'/k_N: auto (the DB metric chooses) or a number >= 0")]
 Mouth = Annotated[bool, Form(description="paste the source's mouth interior (teeth) into an opened mouth")]
+LandmarkerField = Annotated[
+    str,
+    Form(description=f"which landmarker places the landmarks of photos without a landmark file: {' or '.join(LANDMARKERS)}"),
+]
 GlobalLandmarks = Annotated[
     UploadFile | None, File(description="the target's expression landmarks from any other method (.json or .tem), taken as GI (Fig. 21)")
 ]
@@ -106,9 +111,12 @@ async def clone_request(
     uploads: dict[str, UploadFile | None],
     transfer: work.Asked,
     figure: str = FIGURES[0],
+    landmarker: str = DEFAULT,
 ) -> work.CloneRequest:
-    """The checked request: the method known, lambda valid, the options checked, three photos and any landmark files read."""
+    """The checked request: the method and landmarker known, lambda valid, the options checked, three photos and any
+    landmark files read."""
     lookup((method,))
+    check_landmarker(landmarker)
     lambda_k = parse_lambda(lambda_text)
     if figure not in FIGURES:
         raise ExprCloneError("figure", f"must be {' or '.join(FIGURES)}, got {figure!r}")
@@ -116,7 +124,8 @@ async def clone_request(
     marks = [await read_optional(uploads[field], field, LANDMARK_EXTENSIONS) for field in LANDMARK_FIELDS]
     given = await read_optional(uploads["global_landmarks"], "global_landmarks", LANDMARK_EXTENSIONS)
     max_pixels = server.settings.max_pixels
-    return work.CloneRequest((sn, se, tn), (marks[0], marks[1], marks[2]), method, lambda_k, mouth, max_pixels, transfer, given, figure)
+    marked = (marks[0], marks[1], marks[2])
+    return work.CloneRequest((sn, se, tn), marked, method, lambda_k, mouth, max_pixels, transfer, given, figure, landmarker)
 
 
 @router.get("/", include_in_schema=False)
@@ -146,10 +155,11 @@ async def sample(name: str) -> FileResponse:
 
 
 @router.post("/api/landmarks")
-async def landmarks(server: Server, photo: Photo) -> dict[str, Any]:
+async def landmarks(server: Server, photo: Photo, landmarker: LandmarkerField = DEFAULT) -> dict[str, Any]:
     """The landmarks detected on a photo: ``{"width", "height", "landmarks": [[x, y], ...]}`` (68 points)."""
+    check_landmarker(landmarker)
     upload = await read_upload(photo, "photo")
-    found: dict[str, Any] = await server.run(work.landmarks, upload, server.settings.max_pixels)
+    found: dict[str, Any] = await server.run(work.landmarks, upload, server.settings.max_pixels, landmarker)
     return found
 
 
@@ -180,13 +190,14 @@ async def clone(
     method: Method = "e+md",
     lambda_text: Lambda = "auto",
     mouth: Mouth = True,
+    landmarker: LandmarkerField = DEFAULT,
     format: Annotated[str, Query(pattern="^(png|json)$", description="png (default), or json: the record with the PNG as base64")] = "png",
 ) -> Response:
     """The source's expression on the target: PNG, or with ``?format=json`` the JSON record of ``--save-json`` plus ``png`` (base64).
 
-    ``global_warp``, ``image_warp``, ``strength``, ``only``, ``retarget`` and ``global_landmarks`` are the options of
-    ``exprclone clone``."""
-    asked = await clone_request(server, method, lambda_text, mouth, uploads, transfer)
+    ``global_warp``, ``image_warp``, ``strength``, ``only``, ``retarget``, ``global_landmarks`` and ``landmarker`` are the
+    options of ``exprclone clone``."""
+    asked = await clone_request(server, method, lambda_text, mouth, uploads, transfer, landmarker=landmarker)
     png, record = await server.run(work.clone, asked)
     if format == "json":
         return JSONResponse({**record, "png": base64.b64encode(png).decode()})
@@ -203,10 +214,11 @@ async def compare(
     figure: Annotated[
         str, Form(description="11: Figs. 11-13 and the DB curve; 19: the elastic model on the RBF result (Figs. 19-21)")
     ] = FIGURES[0],
+    landmarker: LandmarkerField = DEFAULT,
 ) -> Response:
     """Every method of Fig. 11, the difference images of Figs. 12-13 and the DB curve, as one PNG sheet; or Figs. 19-21
     (``figure=19``: the elastic model on the RBF transfer's result, or on ``global_landmarks``)."""
-    asked = await clone_request(server, "e+md", lambda_text, mouth, uploads, transfer, figure)
+    asked = await clone_request(server, "e+md", lambda_text, mouth, uploads, transfer, figure, landmarker)
     sheet = await server.run(work.compare, asked)
     return Response(sheet, media_type="image/png")
 
@@ -235,13 +247,16 @@ async def video(
     ] = "closed",
     side_by_side: Annotated[bool, Form(description="the driving video beside the result")] = False,
     head_motion: Annotated[bool, Form(description="carry the source's head motion over")] = False,
+    landmarker: LandmarkerField = DEFAULT,
 ) -> dict[str, str]:
     """Start a video job: ``202 {"id", "status", "result"}``; follow it at ``/api/jobs/{id}``.
 
-    ``global_warp``, ``image_warp``, ``strength``, ``only`` and ``retarget`` are the options of ``exprclone video``."""
-    driving = work.Driving(lookup((method,))[0].name, parse_lambda(lambda_text), neutral_frame(neutral), mouth, head_motion)
+    ``global_warp``, ``image_warp``, ``strength``, ``only``, ``retarget`` and ``landmarker`` are the options of
+    ``exprclone video``."""
+    lambda_k, chosen = parse_lambda(lambda_text), check_landmarker(landmarker)
+    driving = work.Driving(lookup((method,))[0].name, lambda_k, neutral_frame(neutral), mouth, head_motion, chosen)
     photo = await read_upload(portrait, "portrait")
-    await server.run(work.landmarks, photo, server.settings.max_pixels)  # a portrait without a face fails now, not in the job
+    await server.run(work.landmarks, photo, server.settings.max_pixels, chosen)  # a portrait without a face fails now, not in the job
     job = server.jobs.create()
     try:
         with job.video.open("wb") as out:

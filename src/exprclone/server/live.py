@@ -1,7 +1,7 @@
 """Live: a portrait that follows a webcam, frame by frame, over a WebSocket (``/api/live``, the page ``/live``).
 
 The protocol. The page sends a text message ``{"type": "start", "method", "mouth",
-"size", "lambda"}`` (and any of ``strength``, ``only``, ``retarget``, ``global_warp``, ``image_warp``:
+"size", "lambda", "landmarker"}`` (and any of ``strength``, ``only``, ``retarget``, ``global_warp``, ``image_warp``:
 the options of :class:`exprclone.options.Options`), then the portrait as one binary message; the server answers
 ``{"type": "ready", "width", "height"}`` or ``{"type": "error", "error"}``. Then each
 camera frame goes as a binary message: a 4-byte big-endian sequence number and a JPEG
@@ -41,9 +41,9 @@ from ..checks import check_choices, check_lambda, options_from, parse_lambda
 from ..cloner import Cloner
 from ..errors import ExprCloneError
 from ..io.frames import resize_portrait
+from ..landmarkers import DEFAULT, check_landmarker, for_thread
 from ..layout import DLIB68
 from ..methods import lookup
-from ..models import default_detector
 from ..mouth import opening
 from ..options import Options
 from .app import Server
@@ -102,13 +102,22 @@ class Session:
         The output's longest side.
     transfer : Options, optional
         The :class:`~exprclone.options.Options` (:data:`TRANSFER`) of the prepared faces; the defaults if None.
+    landmarker : str
+        Which landmarker finds and tracks the faces (:data:`exprclone.landmarkers.LANDMARKERS`).
     """
 
     def __init__(
-        self, portrait: np.ndarray, method: str, mouth: bool, lambda_k: float | str, size: int, transfer: Options | None = None
+        self,
+        portrait: np.ndarray,
+        method: str,
+        mouth: bool,
+        lambda_k: float | str,
+        size: int,
+        transfer: Options | None = None,
+        landmarker: str = DEFAULT,
     ) -> None:
         self.method, self.mouth, self.lambda_k = lookup((method,))[0].name, mouth, check_lambda(lambda_k)
-        self.detector = default_detector()
+        self.detector = for_thread(landmarker)
         self.portrait, _ = resize_portrait(portrait, None, size)
         self.transfer = self._checked(transfer or Options())
         self.portrait_points = self.detector.detect(self.portrait, "portrait")
@@ -194,11 +203,13 @@ async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, max_pixels:
     size = start.get("size", 512)
     if size not in SIZES:
         raise ExprCloneError("size", f"must be one of {', '.join(map(str, SIZES))}, got {size!r}")
+    landmarker = check_landmarker(start.get("landmarker", DEFAULT))
     portrait = await websocket.receive_bytes()
     options = (start.get("method", "e+md"), bool(start.get("mouth", True)), parse_lambda(str(start.get("lambda", "auto"))), size)
     loop = asyncio.get_running_loop()
     return await loop.run_in_executor(
-        executor, lambda: Session(load_image(portrait, name="portrait", max_pixels=max_pixels), *options, transfer_of(start))
+        executor,
+        lambda: Session(load_image(portrait, name="portrait", max_pixels=max_pixels), *options, transfer_of(start), landmarker),
     )
 
 

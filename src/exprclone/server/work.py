@@ -3,7 +3,8 @@
 Each function takes small, picklable arguments (the uploaded bytes and the options) and
 returns encoded results, so that only files cross between the web process and its
 workers. A worker remembers the landmarks of the photos it has seen, by the SHA-256 of
-their bytes: a portrait sent again with another expression is not detected again.
+their bytes and the landmarker: a portrait sent again with another expression is not
+detected again.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import naming
+from ..landmarkers import DEFAULT
 from ..options import Options
 
 if TYPE_CHECKING:
@@ -30,7 +32,7 @@ LANDMARK_CACHE = 256
 #: frames between two updates of a video job's progress file.
 PROGRESS_EVERY = 5
 
-_seen: OrderedDict[str, np.ndarray] = OrderedDict()
+_seen: OrderedDict[tuple[str, str], np.ndarray] = OrderedDict()
 
 
 @dataclass(frozen=True)
@@ -57,7 +59,8 @@ class CloneRequest:
     """What ``POST /api/clone`` and ``/api/compare`` ask: three photos, optional landmark files, the options.
 
     ``transfer`` holds the options but the given landmarks, which come as a file
-    (``global_landmarks``); ``figure`` is the compare sheet's.
+    (``global_landmarks``); ``figure`` is the compare sheet's; ``landmarker`` places the
+    landmarks of photos without a landmark file.
     """
 
     photos: tuple[Upload, Upload, Upload]
@@ -69,6 +72,7 @@ class CloneRequest:
     transfer: Asked = Asked()
     global_landmarks: Upload | None = None
     figure: str = "11"
+    landmarker: str = DEFAULT
 
 
 @dataclass(frozen=True)
@@ -80,6 +84,7 @@ class Driving:
     neutral_frame: int | str | None = "closed"
     mouth: bool = True
     head_motion: bool = False
+    landmarker: str = DEFAULT
 
 
 @dataclass(frozen=True)
@@ -99,7 +104,7 @@ class VideoRequest:
 
 
 def load_models() -> None:
-    """A worker's initializer: load the detector and the eigenface basis now, not on its first request."""
+    """A worker's initializer: load the default landmarker and the eigenface basis now, not on its first request."""
     from ..models import default_detector, default_eigenfaces
 
     default_detector()._load()
@@ -118,24 +123,25 @@ def _image(upload: Upload, max_pixels: int | None) -> np.ndarray:
     return load_image(upload.content, name=upload.field, max_pixels=max_pixels)
 
 
-def _detected(upload: Upload, image: np.ndarray) -> np.ndarray:
-    """The landmarks of an uploaded photo: remembered, or detected (and remembered)."""
-    from ..models import default_detector
+def _detected(upload: Upload, image: np.ndarray, landmarker: str) -> np.ndarray:
+    """The landmarks of an uploaded photo placed by ``landmarker``: remembered, or detected (and remembered)."""
+    from ..models import landmarker as shared
 
-    digest = hashlib.sha256(upload.content).hexdigest()
-    if digest in _seen:
-        _seen.move_to_end(digest)
+    key = (hashlib.sha256(upload.content).hexdigest(), landmarker)
+    if key in _seen:
+        _seen.move_to_end(key)
     else:
-        _seen[digest] = default_detector().detect(image, upload.field)
+        _seen[key] = shared(landmarker).detect(image, upload.field)
         if len(_seen) > LANDMARK_CACHE:
             _seen.popitem(last=False)
-    return _seen[digest]
+    return _seen[key]
 
 
-def landmarks(upload: Upload, max_pixels: int | None = None) -> dict[str, Any]:
-    """``POST /api/landmarks``: the detected landmarks of a photo and its size, ``{"width", "height", "landmarks"}``."""
+def landmarks(upload: Upload, max_pixels: int | None = None, landmarker: str = DEFAULT) -> dict[str, Any]:
+    """``POST /api/landmarks``: the landmarks of a photo placed by ``landmarker``, and its size, ``{"width", "height", "landmarks"}``."""
     image = _image(upload, max_pixels)
-    return {"width": image.shape[1], "height": image.shape[0], "landmarks": np.round(_detected(upload, image), 2).tolist()}
+    points = _detected(upload, image, landmarker)
+    return {"width": image.shape[1], "height": image.shape[0], "landmarks": np.round(points, 2).tolist()}
 
 
 def _landmark_file(upload: Upload, shape: tuple[int, ...]) -> np.ndarray:
@@ -151,7 +157,7 @@ def _inputs(request: CloneRequest) -> tuple[tuple[np.ndarray, np.ndarray, np.nda
     sn, se, tn = (_image(p, request.max_pixels) for p in request.photos)
     images = (sn, se, tn)
     points = tuple(
-        _detected(photo, image) if given is None else _landmark_file(given, image.shape)
+        _detected(photo, image, request.landmarker) if given is None else _landmark_file(given, image.shape)
         for photo, image, given in zip(request.photos, images, request.landmarks)
     )
     options = request.transfer.options
@@ -168,7 +174,9 @@ def clone(request: CloneRequest) -> tuple[bytes, dict[str, Any]]:
 
     images, points, options = _inputs(request)
     result = clone_photos(*images, request.method, request.lambda_k, points, mouth=request.mouth, options=options)
-    return encode_image(result.image, ".png"), result_record(result, {p.field: p.field for p in request.photos})
+    placed = request.landmarker if any(given is None for given in request.landmarks) else None
+    record = result_record(replace(result, landmarker=placed), {p.field: p.field for p in request.photos})
+    return encode_image(result.image, ".png"), record
 
 
 def compare(request: CloneRequest) -> bytes:
@@ -209,6 +217,7 @@ def video(request: VideoRequest) -> dict[str, Any]:
             lambda_k=d.lambda_k,
             head_motion=d.head_motion,
             mouth=d.mouth,
+            landmarker=d.landmarker,
             options=request.options,
         )
         frames = _reporting(recording, video_io.read_frames(request.video), request)

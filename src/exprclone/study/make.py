@@ -202,7 +202,13 @@ def key(
     manifest: str, sets: list[Triple], methods: tuple[str, ...], items: list[dict[str, str]], options: work.JobOptions, size: int | None
 ) -> dict[str, Any]:
     """What ``key.json`` holds: which result is which method, where each set came from, how the clones were made."""
-    settings = {"lambda": options.lambda_k, "mouth": options.mouth, "size": size, **changed(options.options)}
+    settings = {
+        "lambda": options.lambda_k,
+        "mouth": options.mouth,
+        "landmarker": options.landmarker,
+        "size": size,
+        **changed(options.options),
+    }
     sets_ = [{"name": s.name, "photos": dict(zip(ROLES, s.photos)), "lambda": s.lambda_k, "items": i} for s, i in zip(sets, items)]
     made = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     return {

@@ -52,6 +52,7 @@ async function preview(zone) {
   try {
     const form = new FormData();
     form.append("photo", file);
+    form.append("landmarker", $("#landmarker").value);
     zone.found = await (await call("/api/landmarks", { method: "POST", body: form })).json();
     say("");
   } catch (e) {
@@ -78,6 +79,9 @@ for (const zone of document.querySelectorAll(".zone")) {
     if (event.dataTransfer.files.length) setFile(input, event.dataTransfer.files[0]);
   });
 }
+$("#landmarker").addEventListener("change", () => {
+  for (const zone of document.querySelectorAll(".zone")) if (zone.querySelector("canvas")) preview(zone);
+});
 $("#show-landmarks").addEventListener("change", () => {
   for (const zone of document.querySelectorAll(".zone")) if (zone.querySelector("canvas")) drawLandmarks(zone, zone.found);
 });
@@ -108,8 +112,9 @@ $("#lambda-auto").addEventListener("change", showLambda);
 $("#lambda").addEventListener("input", showLambda);
 $("#strength").addEventListener("input", () => { $("#strength-value").textContent = $("#strength").value; });
 
-// the options of exprclone.options.Options, as form fields; every region checked is the whole face
+// the options of exprclone.options.Options and the landmarker, as form fields; every region checked is the whole face
 function addTransfer(form, withGiven) {
+  form.append("landmarker", $("#landmarker").value);
   if ($("#global-warp").value) form.append("global_warp", $("#global-warp").value);
   form.append("image_warp", $("#image-warp").value);
   form.append("strength", $("#strength").value);
@@ -153,7 +158,8 @@ $("#clone").addEventListener("click", async () => {
     const lambda = record.lambda_k === null ? "" : `, λk = ${record.lambda_k}`;
     const o = record.options;
     const how = [o.global_warp !== "similarity" ? `global warp ${o.global_warp}` : "", o.image_warp !== "mesh" ? o.image_warp : "",
-      o.strength !== 1 ? `strength ${o.strength}` : "", o.only ? `only ${o.only.join(", ")}` : "", o.retarget ? "" : "no retarget"].filter(Boolean);
+      o.strength !== 1 ? `strength ${o.strength}` : "", o.only ? `only ${o.only.join(", ")}` : "", o.retarget ? "" : "no retarget",
+      record.landmarker && record.landmarker !== "dlib" ? `${record.landmarker} landmarks` : ""].filter(Boolean);
     $("#result-caption").textContent = `${record.method}${lambda}${how.map((h) => `, ${h}`).join("")}. `;
     $("#download-png").href = png;
     $("#download-json").href = URL.createObjectURL(new Blob([JSON.stringify(record, null, 1)], { type: "application/json" }));

@@ -20,6 +20,7 @@ function inform(message) { $("#message").textContent = message; }
 function setRunning(running) {
   $("#start").disabled = running;
   for (const id of ["#stop", "#neutral", "#record"]) $(id).disabled = !running;
+  $("#landmarker").disabled = running;  // the landmarker is chosen at the start
 }
 
 $("#portrait").addEventListener("change", () => {
@@ -124,11 +125,12 @@ async function start() {
   }
   $("#camera").srcObject = stream;
   sequence = 0; inFlight = 0; dropped = 0; sentAt.clear(); shownAt.length = 0; latencies.length = 0;
+  const portrait = await file.arrayBuffer();  // read before the socket opens: no camera frame may go out before it
   socket = new WebSocket(`${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/api/live`);
   socket.binaryType = "arraybuffer";
-  socket.onopen = async () => {
-    socket.send(JSON.stringify({ type: "start", ...choices(), size: Number($("#size").value) }));
-    socket.send(await file.arrayBuffer());
+  socket.onopen = () => {
+    socket.send(JSON.stringify({ type: "start", ...choices(), size: Number($("#size").value), landmarker: $("#landmarker").value }));
+    socket.send(portrait);
   };
   socket.onmessage = (event) => (typeof event.data === "string" ? onText(JSON.parse(event.data)) : show(event.data));
   socket.onclose = () => { if (socket) stop("The session ended."); };
