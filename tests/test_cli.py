@@ -229,3 +229,28 @@ def test_evaluate_with_variants(london, tmp_path):
     assert "## Pair by pair" in (out / "summary.md").read_text() and "| elastic [rbf] - global [rbf] | 1 |" in p.stdout
     p = run("evaluate", "--data", london, "--global-warps", "affine", "--out", tmp_path / "r")
     assert p.returncode == 2 and "unknown global warp 'affine'" in p.stderr
+
+
+@pytest.mark.parametrize(
+    "kind, content, problem",
+    [
+        ("strip.png", None, "image is too narrow (32x40000 pixels; the long side may be at most 8 times the short one)"),
+        (
+            "same.json",
+            json.dumps([[500, 500]] * 68),
+            "not a face: the outer eye corners (points 36 and 45) are 0 pixels apart (at least 8)",
+        ),
+        ("count.tem", "1" * 5000 + "\n", "not a .tem template (the first line must be the point count, got '1111"),
+    ],
+)
+def test_hostile_files_end_in_one_line_and_exit_2(tmp_path, kind, content, problem):
+    """The server's hostile inputs (issue D1, D2) on the command line: a thin photo, broken landmark files."""
+    path = tmp_path / kind
+    if content is None:
+        Image.new("RGB", (32, 40000)).save(path)
+    else:
+        path.write_text(content)
+    args = [path, SE, TN] if content is None else [SN, SE, TN, "--target-neutral-landmarks", path]
+    p = run("clone", *args, "-o", tmp_path / "out.png")
+    assert p.returncode == 2 and p.stderr.startswith(f"exprclone: error: {path}: {problem}") and p.stderr.count("\n") == 1, p.stderr
+    assert not (tmp_path / "out.png").exists()

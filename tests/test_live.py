@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from browser import chromium
 from server import Server
+from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import connect
 
 from exprclone import data as samples
@@ -177,9 +178,13 @@ def test_only_the_newest_frame_is_kept(live_server):
 def test_sessions_are_bounded_and_bad_starts_are_refused(live_server):
     with start(live_server) as first, start(live_server) as second:
         assert json.loads(first.recv())["type"] == "ready" and json.loads(second.recv())["type"] == "ready"
-        with connect(live_server) as third:  # refused at once, before it says anything
+        with connect(live_server) as third:  # refused at its start message (a connection holds a slot from it)
+            third.send('{"type": "start"}')
             refused = json.loads(third.recv())
             assert refused["type"] == "error" and "sessions are running already" in refused["error"]
+            with pytest.raises(ConnectionClosed) as closed:
+                third.recv()
+            assert closed.value.rcvd.code == 1013  # try again later
     time.sleep(0.5)  # the server removes a session's state when it closes: a new one is let in
     with start(live_server) as again:
         assert json.loads(again.recv())["type"] == "ready"

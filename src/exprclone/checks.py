@@ -14,7 +14,15 @@ from typing import Any
 import numpy as np
 
 from .errors import ExprCloneError
+from .layout import Layout
 from .options import GLOBAL_WARPS, IMAGE_WARPS, STRENGTH_RANGE, Options
+
+#: the smallest distance between the outer eye corners, in pixels: every stage measures the face in this unit.
+MIN_INTEROCULAR = 8.0
+#: how far from the eyes' midpoint a landmark may lie, in eye distances (a chin lies about 1.5 away).
+MAX_REACH = 4.0
+#: the smallest ratio of the landmarks' narrower spread to their wider one (a face is no line).
+MIN_SPREAD = 0.2
 
 
 def check_image(image: np.ndarray, subject: str) -> np.ndarray:
@@ -75,6 +83,52 @@ def check_points(points: np.ndarray, image_shape: tuple[int, ...], n_points: int
         i = int(np.flatnonzero(outside)[0])
         x, y = points[i]
         raise ExprCloneError(subject, f"landmark {i} at ({x:g}, {y:g}) is outside the {w}x{h} image")
+    return points
+
+
+def check_face(points: np.ndarray, layout: Layout, subject: str) -> np.ndarray:
+    """Landmarks that make a face the stages can measure, or ExprCloneError about ``subject``.
+
+    What the clone relies on: the outer eye corners apart (:data:`MIN_INTEROCULAR` pixels; every
+    length is measured in eye distances, and the face's axes are set by the eye line), every
+    point near the eyes (:data:`MAX_REACH` eye distances: the face's box bounds the work), and a
+    face that is not flat (the smaller principal spread at least :data:`MIN_SPREAD` of the larger;
+    collinear landmarks leave the mesh without triangles). Coinciding points are allowed: the
+    lids of a closed eye and the lips of a closed mouth meet.
+
+    Parameters
+    ----------
+    points : ndarray of shape (N, 2)
+        Landmarks (x, y) in pixels, finite (:func:`check_points`).
+    layout : Layout
+    subject : str
+
+    Returns
+    -------
+    ndarray of shape (N, 2)
+        ``points``, unchanged.
+
+    Examples
+    --------
+    >>> from exprclone.layout import DLIB68
+    >>> check_face(np.zeros((68, 2)), DLIB68, "same.json")
+    Traceback (most recent call last):
+    ...
+    exprclone.errors.ExprCloneError: same.json: not a face: the outer eye corners (points 36 and 45) are 0 pixels apart (at least 8)
+    """
+    i, j = layout.eye_corners
+    iod = float(np.linalg.norm(points[j] - points[i]))
+    if not iod >= MIN_INTEROCULAR:
+        raise ExprCloneError(
+            subject, f"not a face: the outer eye corners (points {i} and {j}) are {iod:.3g} pixels apart (at least {MIN_INTEROCULAR:g})"
+        )
+    reach = np.linalg.norm(points - (points[i] + points[j]) / 2, axis=1) / iod
+    if reach.max() > MAX_REACH:
+        k = int(reach.argmax())
+        raise ExprCloneError(subject, f"not a face: point {k} lies {reach[k]:.3g} eye distances from the eyes (at most {MAX_REACH:g})")
+    spread = np.linalg.svd(points - points.mean(0), compute_uv=False)
+    if spread[1] < MIN_SPREAD * spread[0]:
+        raise ExprCloneError(subject, "not a face: the landmarks lie (almost) on one line")
     return points
 
 

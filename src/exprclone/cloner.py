@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from . import eri, geometry, global_warp, lips, metric, mouth_fill, mouth_tone, muscle, retarget, warp
-from .checks import check_lambda, check_options, options_from
+from .checks import check_face, check_lambda, check_options, options_from
 from .eigenface import Eigenfaces
 from .layout import DLIB68, Layout
 from .methods import METHODS, SHAPES, Method, lookup
@@ -59,6 +59,8 @@ class CloneResult:
     landmarker : str or None
         Which landmarker placed the photos' landmarks (:data:`exprclone.landmarkers.LANDMARKERS`),
         None when all were given.
+    warnings : tuple of str
+        What looked wrong with the inputs (:func:`exprclone.role_check.judge_roles`), also issued as ExprCloneWarnings.
     """
 
     image: np.ndarray
@@ -73,6 +75,7 @@ class CloneResult:
     unfolded_points: int = 0
     options: Options = Options()
     landmarker: str | None = None
+    warnings: tuple[str, ...] = ()
 
 
 class Cloner:
@@ -115,6 +118,8 @@ class Cloner:
         self.layout = layout
         asked = options_from(options, keywords)
         self.options = check_options(asked, layout.n_points, target_neutral.shape, tuple(layout.regions))
+        if self.options.global_landmarks is not None:
+            check_face(self.options.global_landmarks, layout, "global_landmarks")
         self.image_warp = IMAGE_WARPERS[self.options.image_warp]
         self.source_image, self.target_image = source_neutral, target_neutral
         self.s_neu = lips.uncross(source_neutral_points, layout)

@@ -18,13 +18,16 @@ is first made the target's (:mod:`exprclone.retarget`, not in the paper;
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from typing import Any
 
 import numpy as np
 
-from .checks import check_image, check_lambda, check_points, options_from
+from . import role_check
+from .checks import check_face, check_image, check_lambda, check_points, options_from
 from .cloner import Cloner, CloneResult
 from .eigenface import Eigenfaces
+from .errors import ExprCloneWarning
 from .landmarkers import DEFAULT, Landmarker, name_of, resolve
 from .layout import DLIB68, Layout
 from .methods import METHODS, lookup
@@ -152,10 +155,13 @@ def clone_methods(
     given = landmarks if landmarks is not None else (None, None, None)
     name, detector = name_of(landmarker), resolve(landmarker)
     s_neu, s_exp, t_neu = (
-        detector.detect(im, role) if p is None else check_points(p, im.shape, layout.n_points, role)
+        detector.detect(im, role) if p is None else check_face(check_points(p, im.shape, layout.n_points, role), layout, role)
         for im, p, role in zip(images, given, ROLES)
     )
     cloner = Cloner(images[0], s_neu, images[2], t_neu, eigenfaces=eigenfaces, layout=layout, options=asked)
+    said = tuple(role_check.judge_roles(role_check.Photo(images[0], s_neu), role_check.Photo(images[1], s_exp), layout))
+    for message in said:
+        warnings.warn(message, ExprCloneWarning, stacklevel=2)
     results = cloner.clone_methods(images[1], s_exp, methods, lambda_k, mouth=mouth)
     placed = name if any(p is None for p in given) else None
-    return {m: dataclasses.replace(r, landmarker=placed) for m, r in results.items()}
+    return {m: dataclasses.replace(r, landmarker=placed, warnings=said) for m, r in results.items()}

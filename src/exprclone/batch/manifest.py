@@ -65,7 +65,7 @@ def read_records(path: str, columns: tuple[str, ...]) -> list[dict[str, str]]:
     ------
     ExprCloneError
         About ``path``: it cannot be read, is not a CSV file, has none of one of ``columns``,
-        or a row leaves one of them empty.
+        or a row leaves one of them empty or has a NUL character in one.
     """
     try:
         with open(path, newline="", encoding="utf-8-sig") as f:
@@ -83,6 +83,8 @@ def read_records(path: str, columns: tuple[str, ...]) -> list[dict[str, str]]:
         empty = [c for c in columns if not record[c]]
         if empty:
             raise ExprCloneError(path, f"row {k} has no {', '.join(empty)}")
+        if any("\0" in record[c] for c in columns):
+            raise ExprCloneError(path, f"row {k} has a NUL character in a path")
     return records
 
 

@@ -24,6 +24,9 @@ PathLike = str | os.PathLike[str]
 
 MIN_SIDE = 32
 """Smallest width and height, in pixels, that :func:`load_image` accepts."""
+MAX_ASPECT = 8
+"""Largest ratio of an image's long side to its short one: a face photo is never a strip, and a strip shrunk to the
+detector's 512 pixels (or a video's 16) would keep no rows at all."""
 
 _FORMATS: dict[str, tuple[str, dict[str, int]]] = {
     # zlib level 1: three times faster than Pillow's default 6 on a 1350-pixel photo (64 against 187 ms), the file 17% larger
@@ -66,14 +69,12 @@ def load_image(path: PathLike | bytes, *, name: str | None = None, max_pixels: i
     ------
     ExprCloneError
         If the file is missing, unreadable, not an image, corrupt or truncated,
-        smaller than ``MIN_SIDE`` pixels on a side, or larger than ``max_pixels``.
+        smaller than ``MIN_SIDE`` pixels on a side, longer than ``MAX_ASPECT`` times its width
+        (or wider than that times its height), or larger than ``max_pixels``.
     """
     name = ("image" if isinstance(path, bytes) else str(path)) if name is None else name
     image, rawmode = _open(path, name, max_pixels)
     with image:
-        width, height = image.size
-        if min(width, height) < MIN_SIDE:
-            raise ExprCloneError(name, f"image is too small ({width}x{height} pixels; at least {MIN_SIDE} on each side needed)")
         notes = []
         if image.mode in ("RGB", "RGBA") and ";16" in rawmode:
             image.frombytes(_read_16bit_colour(path, name, image).tobytes())
@@ -85,6 +86,31 @@ def load_image(path: PathLike | bytes, *, name: str | None = None, max_pixels: i
     if notes:
         warnings.warn(f"{name}: {'; '.join(notes)}", ExprCloneWarning, stacklevel=2)
     return rgb
+
+
+def check_size(width: int, height: int, name: str, max_pixels: int | None = None) -> None:
+    """An image's size as its header gives it, checked before its pixels are decoded.
+
+    Raises
+    ------
+    ExprCloneError
+        About ``name``: a side under :data:`MIN_SIDE`, sides in a ratio over :data:`MAX_ASPECT`,
+        or more than ``max_pixels`` pixels (a guard against decompression bombs).
+
+    Examples
+    --------
+    >>> check_size(32, 40000, "strip.png")
+    Traceback (most recent call last):
+    ...
+    exprclone.errors.ExprCloneError: strip.png: image is too narrow (32x40000 pixels; the long side may be at most 8 times the short one)
+    """
+    if min(width, height) < MIN_SIDE:
+        raise ExprCloneError(name, f"image is too small ({width}x{height} pixels; at least {MIN_SIDE} on each side needed)")
+    if max(width, height) > MAX_ASPECT * min(width, height):
+        problem = f"the long side may be at most {MAX_ASPECT} times the short one"
+        raise ExprCloneError(name, f"image is too {'narrow' if height > width else 'flat'} ({width}x{height} pixels; {problem})")
+    if max_pixels is not None and width * height > max_pixels:
+        raise ExprCloneError(name, f"image is too large ({width}x{height} pixels; at most {max_pixels / 1e6:g} megapixels)")
 
 
 def check_output_path(path: PathLike, inputs: Iterable[PathLike] = (), extensions: Iterable[str] | None = None) -> None:
@@ -202,8 +228,7 @@ def _open(path: PathLike | bytes, name: str, max_pixels: int | None) -> tuple[Im
     image = None
     try:
         image = Image.open(io.BytesIO(path) if isinstance(path, bytes) else path)
-        if max_pixels is not None and image.width * image.height > max_pixels:
-            raise ExprCloneError(name, f"image is too large ({image.width}x{image.height} pixels; at most {max_pixels / 1e6:g} megapixels)")
+        check_size(image.width, image.height, name, max_pixels)
         rawmode = _stored_rawmode(image)
         image.load()
     except (OSError, SyntaxError, ValueError, EOFError, Image.DecompressionBombError) as exc:

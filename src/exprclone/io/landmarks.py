@@ -4,16 +4,24 @@ from __future__ import annotations
 
 import json
 import os
+import re
 
 import numpy as np
 
-from ..checks import check_finite, check_points
+from ..checks import check_face, check_finite, check_points
 from ..errors import ExprCloneError
+from ..layout import DLIB68
 from .frl_template import frl_to_68
 from .images import atomic_write
 
 #: points in the Face Research Lab template
 TEM_POINTS = 189
+#: the largest landmark file read, in characters (a 189-point template with its line definitions is about 10 000).
+MAX_CHARS = 1_000_000
+#: the deepest nesting of brackets a JSON landmark file may have (``{"landmarks": [[x, y], ...]}`` has 3).
+MAX_DEPTH = 8
+#: a JSON string (skipped when the nesting is measured).
+_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
 
 
 def read_tem(path: str | os.PathLike[str]) -> np.ndarray:
@@ -45,8 +53,8 @@ def parse_tem(text: str, name: str) -> np.ndarray:
     """The points of a ``.tem`` template's text (see :func:`read_tem`); errors are about ``name``."""
     lines = text.splitlines()
     header = lines[0].strip() if lines else ""
-    if not header.isdigit():
-        raise ExprCloneError(name, f"not a .tem template (the first line must be the point count, got {header!r})")
+    if not re.fullmatch(r"[0-9]{1,6}", header):
+        raise ExprCloneError(name, f"not a .tem template (the first line must be the point count, got {_quoted(header)})")
     count = int(header)
     if count != TEM_POINTS:
         raise ExprCloneError(name, f"{count} template points, expected the {TEM_POINTS}-point Face Research Lab template")
@@ -60,7 +68,7 @@ def parse_tem(text: str, name: str) -> np.ndarray:
                 raise ValueError
             points[k] = [float(fields[0]), float(fields[1])]
         except ValueError:
-            raise ExprCloneError(name, f"not a .tem template (line {k + 2} should be 'x y', got {lines[1 + k]!r})") from None
+            raise ExprCloneError(name, f"not a .tem template (line {k + 2} should be 'x y', got {_quoted(lines[1 + k])})") from None
     check_finite(points, name)
     return points
 
@@ -99,13 +107,16 @@ def read_landmarks(path: str | os.PathLike[str], image_shape: tuple[int, ...], n
 def parse_landmarks(text: str, extension: str, image_shape: tuple[int, ...], n_points: int = 68, name: str = "landmarks") -> np.ndarray:
     """Landmarks from a landmark file's text, as :func:`read_landmarks`; ``extension`` (``.json`` or ``.tem``) names its format."""
     extension = extension.lower()
+    if len(text) > MAX_CHARS:
+        raise ExprCloneError(name, f"too large for a landmark file ({len(text)} characters; at most {MAX_CHARS})")
     if extension == ".tem":
         points = frl_to_68(parse_tem(text, name))
     elif extension == ".json":
         points = _parse_json_points(text, name)
     else:
         raise ExprCloneError(name, f"unknown landmark file type {extension!r} (use .json or .tem)")
-    return check_points(points, image_shape, n_points, name)
+    points = check_points(points, image_shape, n_points, name)
+    return check_face(points, DLIB68, name) if n_points == DLIB68.n_points else points
 
 
 def write_landmarks(path: str | os.PathLike[str], landmarks: np.ndarray) -> None:
@@ -136,9 +147,17 @@ def write_landmarks(path: str | os.PathLike[str], landmarks: np.ndarray) -> None
 
 
 def _parse_json_points(text: str, name: str) -> np.ndarray:
-    """The ``[x, y]`` pairs of a JSON landmark file's text, as an (N, 2) array (count not checked)."""
+    """The ``[x, y]`` pairs of a JSON landmark file's text, as an (N, 2) array (count not checked).
+
+    Nesting deeper than :data:`MAX_DEPTH` is refused before parsing; numbers are read as floats (an
+    integer of any length too: a huge one becomes infinite, and :func:`check_points` refuses it, as it
+    refuses the NaN and Infinity that Python writes).
+    """
+    depth = json_depth(text)
+    if depth > MAX_DEPTH:
+        raise ExprCloneError(name, f"invalid landmark file (brackets nested {depth} deep; at most {MAX_DEPTH})")
     try:
-        data = json.loads(text)
+        data = json.loads(text, parse_int=float)
     except json.JSONDecodeError as e:
         raise ExprCloneError(name, f"invalid JSON ({e.msg} at line {e.lineno}, column {e.colno})") from None
     if isinstance(data, dict):
@@ -146,6 +165,24 @@ def _parse_json_points(text: str, name: str) -> np.ndarray:
     if not isinstance(data, list) or not all(isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in data):
         raise ExprCloneError(name, 'expected a list of [x, y] pairs or {"landmarks": [[x, y], ...]}')
     return np.array(data, dtype=np.float64).reshape(-1, 2)
+
+
+def json_depth(text: str) -> int:
+    """How deep the brackets of a JSON text nest, strings aside (without parsing it: a linear scan).
+
+    Examples
+    --------
+    >>> json_depth('{"landmarks": [[1, 2], [3, 4]], "note": "[[["}')
+    3
+    """
+    brackets = np.frombuffer(_JSON_STRING.sub("", text).encode("ascii", "replace"), np.uint8)
+    steps = np.isin(brackets, (ord("["), ord("{"))).astype(np.int64) - np.isin(brackets, (ord("]"), ord("}")))
+    return int(np.cumsum(steps).max(initial=0))
+
+
+def _quoted(text: str, most: int = 40) -> str:
+    """``text`` quoted for a message, cut to its first ``most`` characters."""
+    return repr(text) if len(text) <= most else f"{text[:most]!r}..."
 
 
 def _is_number(value: object) -> bool:
@@ -157,7 +194,7 @@ def _read_text(path: str | os.PathLike[str]) -> str:
     """The file's text, or ExprCloneError naming the file."""
     try:
         with open(path, encoding="utf-8-sig") as f:
-            return f.read()
+            return f.read(MAX_CHARS + 1)
     except FileNotFoundError:
         raise ExprCloneError(path, "no such file") from None
     except IsADirectoryError:

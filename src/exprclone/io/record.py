@@ -29,8 +29,8 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
         ``inputs``, ``method``, ``landmarker`` (which placed the photos' landmarks, null when
         all were given), ``options`` (``global_warp``: similarity, rbf or given;
         ``image_warp``, ``strength``, ``only``, ``retarget``), ``lambda_k``, ``db_curve`` (lambda_k and
-        DB of each candidate), ``muscle_strengths``, ``unfolded_points`` and
-        ``landmarks`` (of each stage, to 1/1000 pixel).
+        DB of each candidate), ``muscle_strengths``, ``unfolded_points``, ``warnings`` (what looked
+        wrong with the inputs, :func:`exprclone.role_check.judge_roles`) and ``landmarks`` (of each stage, to 1/1000 pixel).
     """
     curve, options = result.db_curve, result.options
     return {
@@ -48,5 +48,6 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
         "db_curve": None if curve is None else [{"lambda_k": _number(lam), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],
         "muscle_strengths": None if result.muscle_strengths is None else [float(h) for h in result.muscle_strengths],
         "unfolded_points": result.unfolded_points,
+        "warnings": list(result.warnings),
         "landmarks": {k: v.round(3).tolist() for k, v in result.landmarks.items()},
     }

@@ -17,6 +17,7 @@ from .. import __version__
 from .. import data as samples
 from ..checks import check_choices, parse_lambda
 from ..errors import ExprCloneError, naming
+from ..io.images import check_size
 from ..io.video import probe
 from ..landmarkers import DEFAULT, LANDMARKERS, check_landmarker
 from ..methods import FIGURES, METHODS, lookup
@@ -262,7 +263,8 @@ async def video(
         with job.video.open("wb") as out:
             await asyncio.to_thread(shutil.copyfileobj, driving_video.file, out)
         with naming({str(job.video): "driving_video"}):
-            await asyncio.to_thread(probe, job.video)  # a file that is not a video fails now, not in the job
+            info = await asyncio.to_thread(probe, job.video)  # a file that is not a video fails now, not in the job
+        check_size(info.width, info.height, "driving_video", server.settings.max_pixels)  # its frames are bounded as photos are
         files = (str(job.video), str(job.result), str(job.progress_file))
         task = work.VideoRequest(photo, *files, driving, transfer.options, size, side_by_side, server.settings.max_pixels)
         server.jobs.start(job, server.video_pool.submit(work.video, task))

@@ -16,6 +16,7 @@ import multiprocessing
 import os
 import shutil
 import tempfile
+import warnings
 from collections.abc import AsyncIterator, Callable
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
@@ -29,6 +30,7 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
+from PIL.Image import DecompressionBombWarning
 from starlette.exceptions import HTTPException
 from starlette.requests import HTTPConnection
 
@@ -36,7 +38,7 @@ from .. import __version__
 from ..errors import ExprCloneError, NoFaceError
 from . import work
 from .jobs import Jobs, NoSuchJob
-from .limits import RETRY_AFTER, Busy, Gate, UploadLimit
+from .limits import Busy, Gate, UploadLimit
 
 log = logging.getLogger("exprclone.server")
 T = TypeVar("T")
@@ -156,7 +158,7 @@ def add_error_answers(app: FastAPI, statuses: dict[type[Exception], int] | None 
     app.add_exception_handler(NoFaceError, lambda request, e: _error(422, str(e)))
     app.add_exception_handler(ExprCloneError, lambda request, e: _error(400, str(e)))
     app.add_exception_handler(RequestValidationError, lambda request, e: _error(400, _validation_message(e)))
-    app.add_exception_handler(Busy, lambda request, e: _error(503, str(e), {"Retry-After": str(RETRY_AFTER)}))
+    app.add_exception_handler(Busy, lambda request, e: _error(503, str(e), {"Retry-After": str(e.retry_after)}))
     app.add_exception_handler(NoSuchJob, lambda request, e: _error(404, str(e)))
     app.add_exception_handler(HTTPException, lambda request, e: _error(e.status_code, str(e.detail), e.headers))
 
@@ -170,6 +172,8 @@ def add_error_answers(app: FastAPI, statuses: dict[type[Exception], int] | None 
 def create_app(settings: Settings | None = None) -> FastAPI:
     """The application; its workers start (and load the models) when it starts serving."""
     settings = settings or Settings()
+    # the photos' sizes are checked against settings.max_pixels before decoding: Pillow's own alarm is only noise in the log
+    warnings.filterwarnings("ignore", category=DecompressionBombWarning)
 
     @contextlib.asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:

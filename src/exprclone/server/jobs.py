@@ -2,13 +2,16 @@
 
 A job is created with its inputs saved in its folder, runs in the video worker
 (:func:`exprclone.server.work.video`), reports its progress in a file there, and is
-removed :data:`Jobs.ttl` seconds after it ends (or at shutdown). Job ids are random
+removed :data:`Jobs.ttl` seconds after it ends (or at shutdown). A job that fails gives
+its place back at once: its files are removed then, and only its error is kept (until it
+expires, and at most :data:`FAILED_KEPT` of them). Job ids are random
 (128 bits) and checked against their form before any path is built from them.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import re
 import secrets
 import shutil
@@ -22,6 +25,10 @@ from .limits import Busy
 
 #: a job id: 32 hex digits.
 JOB_ID = re.compile(r"[0-9a-f]{32}")
+#: failed jobs whose error is kept to be read (the oldest beyond are forgotten).
+FAILED_KEPT = 64
+#: seconds a client is told to wait when every job kept is still queued or running.
+RETRY_RUNNING = 30
 
 
 class NoSuchJob(Exception):
@@ -79,6 +86,19 @@ class Job:
                 out.update(state="failed", error=str(error) if isinstance(error, ExprCloneError) else "the job failed (internal error)")
         return out
 
+    @property
+    def failed(self) -> bool:
+        """Whether its work has ended with an error."""
+        future = self.future
+        return future is not None and future.done() and (future.cancelled() or future.exception() is not None)
+
+    def ended_now(self) -> None:
+        """Its work has ended: the time to live starts; a failed job's files go at once (its error is kept)."""
+        self.ended = time.time()
+        if self.failed:
+            for path in (self.video, self.result):
+                path.unlink(missing_ok=True)
+
 
 class Jobs:
     """The server's video jobs, at most ``limit`` of them kept, each for ``ttl`` seconds after it ends.
@@ -97,10 +117,14 @@ class Jobs:
         self._jobs: dict[str, Job] = {}
 
     def create(self) -> Job:
-        """A new job with its folder, or :class:`Busy` when ``limit`` jobs are kept already."""
+        """A new job with its folder, or :class:`Busy` when ``limit`` jobs are kept already (failed ones aside)."""
         self.expire()
-        if len(self._jobs) >= self.limit:
-            raise Busy(f"{self.limit} video jobs are kept already; try again when one has expired (after {self.ttl:g} s)")
+        kept = [job for job in self._jobs.values() if not job.failed]
+        if len(kept) >= self.limit:
+            ends = [job.ended + self.ttl for job in kept if job.ended is not None]
+            wait = max(1, math.ceil(min(ends) - time.time())) if ends else RETRY_RUNNING
+            why = "the first done one expires" if ends else "one ends"
+            raise Busy(f"{self.limit} video jobs are queued, running or kept; try again in {wait} s (when {why})", wait)
         job = Job(secrets.token_hex(16), Path())
         job.folder = self.root / job.id
         job.folder.mkdir()
@@ -124,8 +148,11 @@ class Jobs:
         for job in list(self._jobs.values()):
             if job.ended is not None and now - job.ended > self.ttl:
                 self.discard(job)
+        failed = [job for job in self._jobs.values() if job.failed]
+        for job in failed[: max(len(failed) - FAILED_KEPT, 0)]:
+            self.discard(job)
 
     def start(self, job: Job, future: Future[dict[str, Any]]) -> None:
         """Follow the job's work; it ends (and its time to live starts) when the work does."""
         job.future = future
-        future.add_done_callback(lambda _: setattr(job, "ended", time.time()))
+        future.add_done_callback(lambda _: job.ended_now())

@@ -11,7 +11,11 @@ RETRY_AFTER = 2
 
 
 class Busy(Exception):
-    """The work queue is full: answered 503 with ``Retry-After``."""
+    """The work queue is full: answered 503 with ``Retry-After: retry_after`` (seconds; the message says the same)."""
+
+    def __init__(self, message: str, retry_after: int = RETRY_AFTER) -> None:
+        super().__init__(message)
+        self.retry_after = retry_after
 
 
 class Gate:

@@ -17,6 +17,17 @@ is clearly strong (:data:`LAMBDA_STRENGTH`); until then the status says ``"auto"
 the elastic model runs with ``lambda_k = 0``, which gives the global positions GI
 (:class:`Session`).
 
+Misuse. A connection holds a session slot from its start message on, and must send that
+message and the portrait within :data:`START_SECONDS`. A message of the wrong kind (binary
+where text goes, or the reverse), text that is not a JSON object of a known ``type`` with
+fields of the right JSON types (:data:`FIELDS`), a frame that is not a JPEG or PNG within
+the uploads' size bounds (read from its header, before decoding), a start the server cannot
+use (a bad option, a portrait without a face) or a start when every slot is taken is
+answered by ``{"type": "error", "error"}``, then the connection is closed with a code of
+RFC 6455: 1003 (wrong kind), 1013 (no slot free: try again later) or 1008 (anything else).
+A bad value in an ``options`` message (an unknown method, a strength out of range) is
+answered by the error alone, and the session goes on as it was.
+
 No backlog: the server keeps only the newest frame of a connection, and drops the
 older ones unanswered (the page sends the next frame once an answer arrives, with a
 small window). Each connection's state (tracker, filter, prepared faces) lives in a
@@ -26,8 +37,6 @@ thread of its own, and goes when it closes; at most ``Settings.max_live`` run at
 from __future__ import annotations
 
 import asyncio
-import json
-import struct
 import time
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any, NamedTuple
@@ -47,6 +56,7 @@ from ..methods import lookup
 from ..mouth import opening
 from ..options import Options
 from .app import Server
+from .protocol import POLICY, SEQUENCE, START_SECONDS, Misuse, Slots, check_frame, parse_message, receive, refuse
 
 router = APIRouter()
 
@@ -58,8 +68,6 @@ LAMBDA_STRENGTH = 0.03
 JPEG_QUALITY = 85
 #: output sizes a session may ask for (the portrait's longest side).
 SIZES = (256, 512)
-#: the sequence number before each frame.
-SEQUENCE = struct.Struct(">I")
 #: the options of :class:`exprclone.options.Options` a start or options message may carry (GI from a file aside).
 TRANSFER = ("global_warp", "image_warp", "strength", "only", "retarget")
 
@@ -193,19 +201,21 @@ class Session:
         return driver
 
 
-async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, max_pixels: int) -> Session:
-    """Read the start message and the portrait; prepare the session (in its thread)."""
+async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, slots: Slots, max_pixels: int) -> Session:
+    """Read the start message (which takes a slot) and the portrait, within :data:`START_SECONDS`; prepare the session (in its thread)."""
     from ..io.images import load_image
 
-    start = _parse(await websocket.receive_text())
-    if start.get("type") != "start":
-        raise ExprCloneError("live", 'the first message must be {"type": "start", ...}')
+    deadline = asyncio.get_running_loop().time() + START_SECONDS
+    start = parse_message(await receive(websocket, "text", deadline))
+    if start["type"] != "start":
+        raise Misuse("live", 'the first message must be {"type": "start", ...}')
     size = start.get("size", 512)
     if size not in SIZES:
         raise ExprCloneError("size", f"must be one of {', '.join(map(str, SIZES))}, got {size!r}")
     landmarker = check_landmarker(start.get("landmarker", DEFAULT))
-    portrait = await websocket.receive_bytes()
-    options = (start.get("method", "e+md"), bool(start.get("mouth", True)), parse_lambda(str(start.get("lambda", "auto"))), size)
+    slots.take()
+    portrait = await receive(websocket, "bytes", deadline)
+    options = (start.get("method", "e+md"), start.get("mouth", True), parse_lambda(str(start.get("lambda", "auto"))), size)
     loop = asyncio.get_running_loop()
     return await loop.run_in_executor(
         executor,
@@ -225,29 +235,23 @@ def transfer_of(message: dict[str, Any]) -> Options:
 async def live(websocket: WebSocket, server: Server) -> None:
     """A live session (the protocol is in the module's notes)."""
     await websocket.accept()
-    if server.live_sessions >= server.settings.max_live:
-        await websocket.send_json(
-            {"type": "error", "error": f"live: {server.settings.max_live} sessions are running already; try again later"}
-        )
-        return await websocket.close()
-    server.live_sessions += 1
+    slots = Slots(server)
     executor = ThreadPoolExecutor(1, thread_name_prefix="live")
     try:
-        session = await _start(websocket, executor, server.settings.max_pixels)
+        session = await _start(websocket, executor, slots, server.settings.max_pixels)
         await websocket.send_json({"type": "ready", "width": session.portrait.shape[1], "height": session.portrait.shape[0]})
-        await _follow(websocket, session, executor)
+        await _follow(websocket, session, executor, server.settings.max_pixels)
     except ExprCloneError as e:
-        await websocket.send_json({"type": "error", "error": str(e)})
-        await websocket.close()
+        await refuse(websocket, e, e.code if isinstance(e, Misuse) else POLICY)
     except WebSocketDisconnect:
         pass
     finally:
-        server.live_sessions -= 1
+        slots.release()
         executor.shutdown(wait=False, cancel_futures=True)
 
 
-async def _follow(websocket: WebSocket, session: Session, executor: ThreadPoolExecutor) -> None:
-    """Receive frames, keep only the newest, answer each one processed; until the page goes."""
+async def _follow(websocket: WebSocket, session: Session, executor: ThreadPoolExecutor, max_pixels: int | None) -> None:
+    """Receive frames, keep only the newest, answer each one processed; until the page goes, or breaks the protocol."""
     newest: list[bytes] = []
     arrived = asyncio.Event()
     loop = asyncio.get_running_loop()
@@ -258,11 +262,14 @@ async def _follow(websocket: WebSocket, session: Session, executor: ThreadPoolEx
             if message["type"] == "websocket.disconnect":
                 raise WebSocketDisconnect(message.get("code", 1000))
             if message.get("bytes") is not None:
+                check_frame(message["bytes"], max_pixels)
                 newest[:] = [message["bytes"]]  # an older frame not yet taken is dropped
                 arrived.set()
-            elif message.get("text"):
+            elif message.get("text") is not None:
                 try:
-                    await _control(session, executor, message["text"])
+                    await _control(session, executor, parse_message(message["text"]))
+                except Misuse:
+                    raise
                 except ExprCloneError as e:
                     await websocket.send_json({"type": "error", "error": str(e)})
 
@@ -293,25 +300,13 @@ async def _follow(websocket: WebSocket, session: Session, executor: ThreadPoolEx
             task.cancel()
 
 
-def _parse(text: str) -> dict[str, Any]:
-    """A text message: a JSON object, or ExprCloneError about ``live``."""
-    try:
-        message = json.loads(text)
-    except ValueError:
-        message = None
-    if not isinstance(message, dict):
-        raise ExprCloneError("live", "a text message must be a JSON object")
-    return message
-
-
-async def _control(session: Session, executor: ThreadPoolExecutor, text: str) -> None:
+async def _control(session: Session, executor: ThreadPoolExecutor, message: dict[str, Any]) -> None:
     """A text message after the start: ``neutral`` or ``options`` (run in the session's thread, between frames)."""
-    message = _parse(text)
     loop = asyncio.get_running_loop()
-    if message.get("type") == "neutral":
+    if message["type"] == "neutral":
         await loop.run_in_executor(executor, lambda: session.recapture(now=True))
-    elif message.get("type") == "options":
+    elif message["type"] == "options":
         transfer = transfer_of(message) if any(key in message for key in TRANSFER) else None
-        await loop.run_in_executor(
-            executor, session.options, message.get("method", session.method), bool(message.get("mouth", True)), transfer
-        )
+        await loop.run_in_executor(executor, session.options, message.get("method", session.method), message.get("mouth", True), transfer)
+    else:
+        raise Misuse("live", f"a {message['type']} message comes only first")
