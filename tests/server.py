@@ -14,6 +14,12 @@ import httpx
 START_TIMEOUT = 90
 
 
+def interruptible() -> None:
+    """In a child before it runs: Ctrl-C (SIGINT) as a user's terminal gives it. A test run started in the background
+    of a non-interactive shell ignores SIGINT, and a Python started so would ignore it too (no KeyboardInterrupt)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -21,18 +27,22 @@ def free_port() -> int:
 
 
 class Server:
-    """``exprclone serve ARGS`` (or another ``command``) in a process of its own; ``url`` once it answers ``/api/health``.
+    """``exprclone serve ARGS`` (or another ``command``) in a process of its own, with ``env`` added to its environment;
+    ``url`` once it answers ``/api/health``.
 
     Its output goes to temporary files, not pipes: a pipe nobody reads while the server
     runs fills up (64 KB of log), and the server then stops at its next line.
     """
 
-    def __init__(self, *args: str, command: tuple[str, ...] = ("serve",)) -> None:
+    def __init__(self, *args: str, command: tuple[str, ...] = ("serve",), env: dict[str, str] | None = None) -> None:
         self.port = free_port()
         self.url = f"http://127.0.0.1:{self.port}"
         command = [sys.executable, "-m", "exprclone", *command, "--port", str(self.port), *args]
         self.output = tempfile.TemporaryFile("w+"), tempfile.TemporaryFile("w+")
-        self.process = subprocess.Popen(command, stdout=self.output[0], stderr=self.output[1], text=True)
+        environment = None if env is None else {**os.environ, **env}
+        self.process = subprocess.Popen(
+            command, stdout=self.output[0], stderr=self.output[1], text=True, env=environment, preexec_fn=interruptible
+        )
         deadline = time.time() + START_TIMEOUT
         while time.time() < deadline and self.process.poll() is None:
             try:

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
+from server import interruptible
 
 import exprclone
 from exprclone import data as samples
@@ -170,7 +171,8 @@ def test_ctrl_c_leaves_whole_outputs_and_the_next_run_finishes(tmp_path):
     # 8 tasks of 4 rows: 2 workers hold at most 3 of them when Ctrl-C comes, so some rows are never started
     rows = [("126", target, f"{k}-{target}.png") for k in range(16) for target in ("003", "001")]
     path = manifest(tmp_path, rows)
-    process = subprocess.Popen([sys.executable, "-m", "exprclone", "batch", str(path), "--jobs", "2"], stderr=subprocess.PIPE, text=True)
+    command = [sys.executable, "-m", "exprclone", "batch", str(path), "--jobs", "2"]
+    process = subprocess.Popen(command, stderr=subprocess.PIPE, text=True, preexec_fn=interruptible)
     deadline = time.time() + 120
     while time.time() < deadline and not any(p.suffix == ".png" and not p.name.startswith(".") for p in tmp_path.iterdir()):
         time.sleep(0.05)

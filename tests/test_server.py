@@ -7,7 +7,6 @@ import os
 import tempfile
 import threading
 import time
-from pathlib import Path
 
 import httpx
 import numpy as np
@@ -277,10 +276,9 @@ def test_limits_upload_size_and_work_queue():
     assert "Traceback" not in err, err
 
 
-def test_ctrl_c_stops_the_server_and_removes_its_temporary_files():
-    before = set(Path(tempfile.gettempdir()).glob("exprclone-serve-*"))
-    running = Server("--workers", "1")
-    made = set(Path(tempfile.gettempdir()).glob("exprclone-serve-*")) - before
+def test_ctrl_c_stops_the_server_and_removes_its_temporary_files(tmp_path):
+    running = Server("--workers", "1", env={"TMPDIR": str(tmp_path)})  # a folder of its own: other servers may be running
+    made = set(tmp_path.glob("exprclone-serve-*"))
     assert len(made) == 1
     out, err = running.stop()
     assert running.process.returncode == 0 and "stopped" in out, err
