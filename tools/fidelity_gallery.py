@@ -1,6 +1,6 @@
 """Before and after retargeting and the ERI's gate (issue 17): the worst pairs by identity, and the ERI's artifacts.
 
-    python tools/fidelity_gallery.py --scores BEFORE/pairs.csv [--before-ref 9950aa4] [--data ../shared/data] [-o docs/fidelity.jpg]
+    python tools/fidelity_gallery.py --scores BEFORE/pairs.csv [--before-ref 9950aa4] [--data ../shared/data] [-o docs/_static/fidelity.jpg]
 
 "Before" is e+md as commit ``--before-ref`` made it (the paper's global and local stages,
 the ERI without its gate), run from a ``git archive`` of that commit's ``src`` in a
@@ -153,7 +153,7 @@ def main() -> None:
     parser.add_argument("--artifacts", type=int, default=4)
     parser.add_argument("--ring", type=int, default=0, help="only the first N people's smiles of the ring (default: all)")
     parser.add_argument("--work", type=Path, help="keep the rendered pairs here (default: a temporary folder)")
-    parser.add_argument("-o", "--output", default="docs/fidelity.jpg")
+    parser.add_argument("-o", "--output", default="docs/_static/fidelity.jpg")
     parser.add_argument("--render", type=Path, help=argparse.SUPPRESS)  # the before commit's process
     parser.add_argument("--pairs", help=argparse.SUPPRESS)
     args = parser.parse_args()

@@ -1,6 +1,6 @@
 """A strip of live frames for the README: the fake camera (a GRID clip) and the portrait answering it.
 
-    python tools/live_strip.py [-o docs/live.jpg] [--frames 6]
+    python tools/live_strip.py [-o docs/_static/live.jpg] [--frames 6]
 
 Starts ``exprclone serve`` and headless Chromium with the sample clip as its camera
 (tests/browser.py), opens ``/live`` with the sample portrait at 256 pixels, watches the

@@ -1,6 +1,6 @@
 """A screenshot of the web page after a clone of the sample photos, taken with the browser tests' tooling.
 
-    python tools/page_screenshot.py [-o docs/page.jpg]
+    python tools/page_screenshot.py [-o docs/_static/page.jpg]
 
 Starts ``exprclone serve``, opens the page in headless Chromium (tests/browser.py), clicks
 "Try the sample photos", clones, and saves the page.

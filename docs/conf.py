@@ -1,0 +1,94 @@
+"""Sphinx configuration of exprclone's documentation.
+
+Build it with ``sphinx-build -W -b html docs OUT`` after ``pip install '.[docs]'``. The build
+runs the gallery (``examples/``, on the samples shipped in :mod:`exprclone.data`), reads the
+command line reference from the real parser and the HTTP reference from the app's own OpenAPI
+schema (written below, at build time, into ``docs/reference/openapi.json``); the results pages
+are files generated beforehand by ``tools/results.py``, only read here.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import exprclone
+
+DOCS = Path(__file__).resolve().parent
+ROOT = DOCS.parent
+
+project = "exprclone"
+author = "the exprclone developers"
+copyright = "the exprclone developers; code MIT, data CC BY 4.0"
+version = release = exprclone.__version__
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.intersphinx",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+    "sphinx_design",
+    "numpydoc",
+    "sphinx_gallery.gen_gallery",
+    "sphinxarg.ext",
+    "sphinxcontrib.openapi",
+]
+
+exclude_patterns = ["_build", "auto_examples/*.ipynb", "auto_examples/*.py", "auto_examples/*.zip", "results/data/**"]
+templates_path: list[str] = []
+html_static_path = ["_static"]
+html_theme = "pydata_sphinx_theme"
+html_title = f"exprclone {release}"
+html_theme_options = {
+    "navigation_with_keys": False,
+    "show_toc_level": 2,
+    "secondary_sidebar_items": ["page-toc"],
+    "footer_start": ["copyright"],
+    "footer_end": ["sphinx-version"],
+}
+html_sidebars = {"index": [], "citing": []}
+html_show_sourcelink = False
+
+# numpydoc: the docstrings' sections; no autosummary tables of every method of a class
+numpydoc_show_class_members = False
+numpydoc_class_members_toctree = False
+numpydoc_xref_param_type = False
+autodoc_member_order = "bysource"
+autodoc_typehints = "none"
+autosummary_generate = False
+
+intersphinx_mapping: dict[str, tuple[str, None]] = {}
+
+sphinx_gallery_conf = {
+    "examples_dirs": str(ROOT / "examples"),
+    "gallery_dirs": "auto_examples",
+    "filename_pattern": r"/plot_",
+    "download_all_examples": False,
+    "remove_config_comments": True,
+    "within_subsection_order": "FileNameSortKey",
+    "image_scrapers": ("matplotlib",),
+    "matplotlib_animations": False,
+    "reset_modules": ("matplotlib",),
+    "show_memory": False,
+    "min_reported_time": 1,
+    "abort_on_example_error": True,
+    "plot_gallery": "True",
+}
+
+
+def write_openapi(app) -> None:
+    """The HTTP reference's source: the schema of the app that ``exprclone serve`` runs (no worker is started)."""
+    from exprclone.server.app import create_app
+
+    schema = create_app().openapi()
+    target = DOCS / "reference" / "openapi.json"
+    text = json.dumps(schema, indent=1, sort_keys=False) + "\n"
+    if not target.exists() or target.read_text() != text:
+        target.write_text(text)
+
+
+def setup(app) -> None:
+    os.environ.setdefault("MPLBACKEND", "agg")
+    app.connect("builder-inited", write_openapi)
