@@ -254,3 +254,8 @@ def test_hostile_files_end_in_one_line_and_exit_2(tmp_path, kind, content, probl
     p = run("clone", *args, "-o", tmp_path / "out.png")
     assert p.returncode == 2 and p.stderr.startswith(f"exprclone: error: {path}: {problem}") and p.stderr.count("\n") == 1, p.stderr
     assert not (tmp_path / "out.png").exists()
+
+
+def test_version_prints_the_version():
+    done = run("--version")
+    assert done.returncode == 0 and done.stdout.strip() == f"exprclone {exprclone.__version__}"

@@ -13,6 +13,7 @@ import sys
 import warnings
 from typing import TextIO
 
+from .. import __version__
 from ..errors import ExprCloneError
 from . import batch, clone, compare, demo, evaluate, serve, study, video
 
@@ -34,6 +35,7 @@ COMMANDS = {
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="exprclone", description="Facial expression cloning with elastic and muscle models (E+MD).")
+    parser.add_argument("--version", action="version", version=f"exprclone {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     for command in COMMANDS.values():
         command.add_parser(sub)

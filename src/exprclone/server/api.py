@@ -25,6 +25,7 @@ from ..options import GLOBAL_WARPS, IMAGE_WARPS, REGIONS, STRENGTH_RANGE, Option
 from ..roles import ROLES, SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from . import work
 from .app import Server
+from .openapi import errors
 
 router = APIRouter()
 
@@ -145,7 +146,7 @@ async def health() -> dict[str, str]:
     return {"status": "ok", "version": __version__}
 
 
-@router.get("/api/samples/{name}")
+@router.get("/api/samples/{name}", responses=errors(400))
 async def sample(name: str) -> FileResponse:
     """A sample shipped in the package (:mod:`exprclone.data`): ``source_neutral``, ``source_expression``,
     ``target_neutral``, ``portrait`` or ``driving_video``."""
@@ -155,7 +156,7 @@ async def sample(name: str) -> FileResponse:
     return FileResponse(path, filename=path.name)
 
 
-@router.post("/api/landmarks")
+@router.post("/api/landmarks", responses=errors(400, 413, 422, 503))
 async def landmarks(server: Server, photo: Photo, landmarker: LandmarkerField = DEFAULT) -> dict[str, Any]:
     """The landmarks detected on a photo: ``{"width", "height", "landmarks": [[x, y], ...]}`` (68 points)."""
     check_landmarker(landmarker)
@@ -183,7 +184,10 @@ async def clone_uploads(
 Uploads = Annotated[dict[str, UploadFile | None], Depends(clone_uploads)]
 
 
-@router.post("/api/clone", responses={200: {"content": {"image/png": {}}, "description": "the result, at the target photo's size"}})
+@router.post(
+    "/api/clone",
+    responses={200: {"content": {"image/png": {}}, "description": "the result, at the target photo's size"}, **errors(400, 413, 422, 503)},
+)
 async def clone(
     server: Server,
     uploads: Uploads,
@@ -205,7 +209,9 @@ async def clone(
     return Response(png, media_type="image/png")
 
 
-@router.post("/api/compare", responses={200: {"content": {"image/png": {}}, "description": "the sheet of Figs. 11-13"}})
+@router.post(
+    "/api/compare", responses={200: {"content": {"image/png": {}}, "description": "the sheet of Figs. 11-13"}, **errors(400, 413, 422, 503)}
+)
 async def compare(
     server: Server,
     uploads: Uploads,
@@ -233,7 +239,7 @@ def neutral_frame(text: str) -> int | str | None:
     return int(text)
 
 
-@router.post("/api/video", status_code=202)
+@router.post("/api/video", status_code=202, responses=errors(400, 413, 422, 503))
 async def video(
     server: Server,
     portrait: Photo,
@@ -274,14 +280,14 @@ async def video(
     return {"id": job.id, "status": f"/api/jobs/{job.id}", "result": f"/api/jobs/{job.id}/result"}
 
 
-@router.get("/api/jobs/{job_id}")
+@router.get("/api/jobs/{job_id}", responses=errors(404))
 async def job_state(server: Server, job_id: str) -> dict[str, Any]:
     """A job's ``state`` (queued, running, done, failed), ``progress`` (0 to 1), ``error`` and, once done, ``info``."""
     server.jobs.expire()
     return server.jobs.get(job_id).state()
 
 
-@router.get("/api/jobs/{job_id}/result", responses={200: {"content": {"video/mp4": {}}}, 409: {"description": "not done yet"}})
+@router.get("/api/jobs/{job_id}/result", responses={200: {"content": {"video/mp4": {}}}, **errors(404, 409)})
 async def job_result(server: Server, job_id: str) -> Response:
     """The job's MP4 (a :class:`~fastapi.responses.FileResponse`) once it is done; 409 with ``{"error"}`` before."""
     job = server.jobs.get(job_id)

@@ -39,6 +39,7 @@ from ..errors import ExprCloneError, NoFaceError
 from . import work
 from .jobs import Jobs, NoSuchJob
 from .limits import Busy, Gate, UploadLimit
+from .openapi import document
 
 log = logging.getLogger("exprclone.server")
 T = TypeVar("T")
@@ -187,8 +188,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     from .api import router
     from .live import router as live_router
 
-    app = FastAPI(title="exprclone", version=__version__, lifespan=lifespan, description=(__doc__ or "").split("\n\n")[1])
+    description = (__doc__ or "").split("\n\n")[1]
+    app = FastAPI(title="exprclone", version=__version__, lifespan=lifespan, description=description, docs_url=None, redoc_url=None)
     add_error_answers(app)
+    document(app)
     app.include_router(router)
     app.include_router(live_router)
     static = Path(str(resources.files(__package__) / "static"))

@@ -1,0 +1,112 @@
+"""The HTTP API's own documentation: its error answers in the OpenAPI schema, and ``/docs`` and ``/redoc`` offline.
+
+Every error the server gives is JSON ``{"error": "<field>: <problem>"}`` (:class:`ErrorAnswer`);
+:func:`errors` declares, route by route, the statuses it can answer with, so that the schema
+at ``/openapi.json`` is the HTTP reference. FastAPI's own 422 "validation error" answer is
+taken out of the schema: the server answers a request that fails its checks with 400
+(:func:`exprclone.server.app.add_error_answers`), never with that body.
+
+The pages ``/docs`` (Swagger UI) and ``/redoc`` (ReDoc) load their scripts, styles and icon
+from this server (the files of the ``fastapi-offline`` package), not from a CDN, and no font
+from another host: they work with no network.
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+
+from fastapi import FastAPI
+from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
+from fastapi.responses import HTMLResponse
+from fastapi.staticfiles import StaticFiles
+from pydantic import BaseModel
+
+#: what each error status means, in every route that can answer it.
+MEANING = {
+    400: "a bad parameter, a missing field, or a file that is not an image (or not a video, or not a landmark file)",
+    404: "an unknown or expired job",
+    409: "the job is not done",
+    413: "the request is larger than the server's --max-upload-mb",
+    422: "a photo or video in which no face is found",
+    503: "the work queue is full: retry after the Retry-After header's seconds",
+}
+#: where the pages' assets are served from.
+ASSETS_URL = "/docs-assets"
+#: the pages may load nothing from another host (ReDoc's footer would fetch its maker's logo from a CDN).
+POLICY = (
+    "default-src 'self'; script-src 'self' 'unsafe-inline'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:;"
+    " worker-src 'self' blob:"
+)
+
+
+class ErrorAnswer(BaseModel):
+    """The body of every error answer."""
+
+    error: str
+
+    model_config = {
+        "json_schema_extra": {"examples": [{"error": "target_neutral: no face found (use a frontal photo, or give its landmarks)"}]}
+    }
+
+
+def errors(*statuses: int) -> dict[int | str, dict]:
+    """The ``responses=`` of a route that can answer with these error statuses."""
+    return {status: {"model": ErrorAnswer, "description": MEANING[status]} for status in statuses}
+
+
+def _without_validation_errors(schema: dict) -> dict:
+    """The schema with FastAPI's default 422 answers (those not declared by :func:`errors`) and their models removed."""
+    for path in schema.get("paths", {}).values():
+        for operation in path.values():
+            answer = operation.get("responses", {}).get("422", {})
+            if "HTTPValidationError" in str(answer.get("content", {})):
+                del operation["responses"]["422"]
+    models = schema.get("components", {}).get("schemas", {})
+    for name in ("HTTPValidationError", "ValidationError"):
+        models.pop(name, None)
+    return schema
+
+
+def document(app: FastAPI) -> None:
+    """The schema as :mod:`exprclone.server.openapi` says, and the offline ``/docs`` and ``/redoc`` pages."""
+    make_schema = app.openapi
+
+    def openapi() -> dict:
+        if app.openapi_schema is None:
+            app.openapi_schema = _without_validation_errors(make_schema())
+        return app.openapi_schema
+
+    app.openapi = openapi  # type: ignore[method-assign]
+    assets = Path(str(resources.files("fastapi_offline") / "static"))
+    app.mount(ASSETS_URL, StaticFiles(directory=assets), name="api-docs")
+    title = app.title
+
+    @app.get("/docs", include_in_schema=False)
+    async def swagger_ui() -> HTMLResponse:
+        return _own_only(
+            get_swagger_ui_html(
+                openapi_url="/openapi.json",
+                title=f"{title}: HTTP API",
+                swagger_js_url=f"{ASSETS_URL}/swagger-ui-bundle.js",
+                swagger_css_url=f"{ASSETS_URL}/swagger-ui.css",
+                swagger_favicon_url=f"{ASSETS_URL}/favicon.png",
+            )
+        )
+
+    @app.get("/redoc", include_in_schema=False)
+    async def redoc() -> HTMLResponse:
+        return _own_only(
+            get_redoc_html(
+                openapi_url="/openapi.json",
+                title=f"{title}: HTTP API",
+                redoc_js_url=f"{ASSETS_URL}/redoc.standalone.js",
+                redoc_favicon_url=f"{ASSETS_URL}/favicon.png",
+                with_google_fonts=False,
+            )
+        )
+
+
+def _own_only(page: HTMLResponse) -> HTMLResponse:
+    page.headers["Content-Security-Policy"] = POLICY
+    return page
