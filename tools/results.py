@@ -51,6 +51,7 @@ def _meta(command: list[str], data: str, seconds: float) -> dict:
         "version": __version__,
         "machine": f"{os.cpu_count()} cores, {platform.machine()}, Python {platform.python_version()}",
         "seconds": round(seconds, 1),
+        "load": f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores",
     }
 
 
@@ -94,3 +95,233 @@ def collect_bench(name: str, args: list[str]) -> None:
     (out / f"{name}.txt").write_text(done.stdout)
     meta = _meta(["python", f"benchmarks/{name}.py", *args], _option(args, "--data", "../shared/data"), seconds)
     (out / f"{name}.json").write_text(json.dumps(meta, indent=1) + "\n")
+
+
+# ---- the pages, from what was kept ------------------------------------------------------------------------------------------
+
+
+def _facts(meta: dict) -> list[str]:
+    """The field list at the top of a results page: how the figures below were made."""
+    facts = [
+        f":Command: ``{meta['command']}``",
+        f":Data: ``{meta['data']}``",
+        f":Date: {meta['date']}",
+        f":Version: exprclone {meta['version']}",
+        f":Machine: {meta['machine']}",
+        f":Took: {meta['seconds'] / 60:.1f} minutes",
+    ]
+    if "load" in meta:
+        facts.append(f":Load: {meta['load']} (the machine's load average as the run started: other work shared its cores)")
+    return facts + [""]
+
+
+def _list_table(header: list[str], rows: list[list[str]], widths: str | None = None) -> list[str]:
+    lines = [".. list-table::", "   :header-rows: 1", ""]
+    if widths:
+        lines.insert(2, f"   :widths: {widths}")
+    for row in [header, *rows]:
+        lines += [f"   * - {row[0]}"] + [f"     - {cell}" for cell in row[1:]]
+    return lines + [""]
+
+
+def _rows(path: Path) -> list[dict]:
+    """``pairs.csv`` as :func:`exprclone.evaluation.report.summarise` takes it: scores as numbers, failures as booleans."""
+    numbers = ("target_smile", "overall", "mouth", "eyes_brows", "identity", "teeth", "source_teeth")
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    for row in rows:
+        row["failed"] = row["failed"] not in ("", "False")
+        for key in numbers:
+            row[key] = float(row[key]) if row[key] not in ("", None) else float("nan")
+    return rows
+
+
+def _share(share: float, of: int) -> str:
+    return f"{100 * share:.0f}% of {of}" if of else "-"
+
+
+def _summary_table(summary: list[dict]) -> list[str]:
+    header = ["method", "pairs", "failed", "landmark error, mean / median", "mouth, mean / median", "mouth minus global, paired"]
+    header += ["eyes and brows, mean / median", "identity, mean / median", "same person", "teeth: source shows", "teeth: source shows none"]
+    rows = []
+    for s in summary:
+        pair = lambda key: f"{s[key + '_mean']:.4f} / {s[key + '_median']:.4f}"  # noqa: E731
+        rows.append(
+            [f"``{s['method']}``", str(s["pairs"]), str(s["failed"]), pair("overall"), pair("mouth")]
+            + [f"{s['mouth_vs_baseline']:+.4f} ± {s['mouth_vs_baseline_se']:.4f}", pair("eyes_brows"), pair("identity")]
+            + [
+                f"{100 * s['same_person']:.0f}%",
+                _share(s["teeth_kept"], s["teeth_sources"]),
+                _share(s["teeth_invented"], s["closed_sources"]),
+            ]
+        )
+    return _list_table(header, rows)
+
+
+def _contrast_table(lines: list[dict]) -> list[str]:
+    header = ["compared, pair by pair", "pairs", "mouth", "landmarks overall", "eyes and brows", "identity"]
+    keys = ("mouth", "overall", "eyes_brows", "identity")
+    rows = [[f"``{c['compared']}``", str(c["pairs"])] + [f"{c[k + '_mean']:+.4f} ± {c[k + '_se']:.4f}" for k in keys] for c in lines]
+    return _list_table(header, rows)
+
+
+def _scores_figure(summaries: dict[str, list[dict]], out: Path) -> None:
+    """Mouth error and identity distance per method, over all pairs and over the broad smiles."""
+    import matplotlib
+
+    matplotlib.use("agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 0.32 * len(next(iter(summaries.values()))) + 1.2), sharey=True)
+    for ax, key, label in zip(axes, ("mouth", "identity"), ("mouth landmark error (mean)", "identity distance to the target (mean)")):
+        for offset, (name, summary) in zip((-0.2, 0.2), summaries.items()):
+            y = np.arange(len(summary)) + offset
+            ax.barh(y, [s[f"{key}_mean"] for s in summary], height=0.4, label=name)
+        ax.set_xlabel(label)
+    axes[0].set_yticks(range(len(summary)), [s["method"] for s in summary])
+    axes[0].invert_yaxis()
+    axes[0].legend(loc="lower right")
+    fig.tight_layout()
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+
+
+def render_evaluation() -> str | None:
+    """``evaluation.rst`` from the kept report; the README's headline table (Markdown)."""
+    from exprclone.evaluation.report import STRONG_SMILE, contrasts, summarise
+
+    kept = KEPT / "evaluate"
+    if not (kept / "pairs.csv").exists():
+        return None
+    meta = json.loads((kept / "meta.json").read_text())
+    rows = _rows(kept / "pairs.csv")
+    summaries = {
+        "all pairs": summarise(rows),
+        f"broad smiles (mouth widens by {STRONG_SMILE:.0%} or more)": summarise(rows, strong_only=True),
+    }
+    _scores_figure(summaries, kept / "scores.png")
+    n_pairs = len({(r["source"], r["target"]) for r in rows})
+    n_broad = len({(r["source"], r["target"]) for r in rows if r["target_smile"] >= STRONG_SMILE})
+    text = ["..", "   Generated by tools/results.py from docs/results/data/evaluate/: do not edit.", "", "Scores against real smiles"]
+    text += ["=" * len(text[-1]), ""] + _facts(meta)
+    text += [
+        f"Each person's smile is cloned onto another person's neutral photo ({n_pairs} ordered pairs of different people",
+        "with a fixed seed), by every method, and each result is scored against the target's *own* real smile:",
+        "",
+        "- **landmark error**: the 68 landmarks detected on the result against those of the real smile, after a similarity",
+        "  alignment, in outer-eye-corner distances; overall, the mouth, the eyes and brows;",
+        "- **mouth minus global, paired**: the method's mouth error minus global warping's on the same pair (in the same",
+        "  variant), with its standard error;",
+        "- **identity**: dlib's face-descriptor distance to the target's neutral photo (the same person below 0.6);",
+        "- **teeth**: of the pairs whose source's smile shows teeth, the share of results that show teeth; of the others,",
+        "  the share that show teeth all the same;",
+        "- ``no change`` (the neutral photo as the result) and ``real`` (the real smile) are the floor and the ceiling.",
+        "",
+        "Rows marked ``[rbf]`` run on the RBF transfer's global warp (the paper's Figs. 19-20) instead of the",
+        "similarity transfer; :doc:`../explanation/global-warps` discusses them.",
+        "",
+        ".. figure:: data/evaluate/scores.png",
+        "   :alt: mouth error and identity distance per method",
+        "   :width: 100%",
+        "",
+        "   Mean mouth error and identity distance of each method, over all pairs and over the broad smiles.",
+        "",
+        "All pairs",
+        "---------",
+        "",
+        *_summary_table(summaries["all pairs"]),
+        "Broad smiles",
+        "------------",
+        "",
+        f"The {n_broad} pairs whose target smiles broadly: its mouth widens by {STRONG_SMILE:.0%} or more between its two photos.",
+        "A real smile is a better ground truth for a broad cloned one than a subtle smile is.",
+        "",
+        *_summary_table(list(summaries.values())[1]),
+    ]
+    if contrasts(rows):
+        text += ["Pair by pair", "------------", "", "Mean difference over the pairs, with its standard error; below 0, the first is"]
+        text += ["closer to the real smile (for identity, to the target's own face). All pairs, then the broad smiles.", ""]
+        text += _contrast_table(contrasts(rows)) + _contrast_table(contrasts(rows, strong_only=True))
+    if (kept / "gallery.jpg").exists():
+        text += [
+            "Gallery",
+            "-------",
+            "",
+            ".. figure:: data/evaluate/gallery.jpg",
+            "   :alt: best, median and worst pairs",
+            "   :width: 100%",
+            "",
+        ]
+        text += ["   E+MD's best, median and worst pairs by mouth error, and the median pair whose source shows teeth: the source's"]
+        text += ["   smile, the target's neutral photo, the result, the target's real smile, and their mouths close up.", ""]
+    (PAGES / "evaluation.rst").write_text("\n".join(text))
+    return _headline(summaries, meta)
+
+
+def _headline(summaries: dict[str, list[dict]], meta: dict) -> str:
+    """The README's small table: the default setting's main methods, all pairs and broad smiles."""
+    shown = ("no change", "global", "elastic", "global+eri", "e+md", "real")
+    every, broad = (({s["method"]: s for s in summary}) for summary in summaries.values())
+    lines = [
+        f"`{meta['command']}` ({meta['date']}, exprclone {meta['version']}):",
+        "",
+        "| method | mouth error, all pairs | mouth error, broad smiles | identity distance | shows teeth when the source does |",
+        "|---|---|---|---|---|",
+    ]
+    for name in shown:
+        s, b = every[name], broad[name]
+        teeth = f"{100 * s['teeth_kept']:.0f}%" if s["teeth_sources"] else "-"
+        lines.append(f"| {name} | {s['mouth_mean']:.4f} | {b['mouth_mean']:.4f} | {s['identity_mean']:.3f} | {teeth} |")
+    return "\n".join(lines)
+
+
+def render_speed() -> None:
+    """``speed.rst``: each kept benchmark's facts and what it printed."""
+    text = ["..", "   Generated by tools/results.py from docs/results/data/bench/: do not edit.", "", "Speed", "=====", ""]
+    text += [
+        "What the benchmarks in ``benchmarks/`` print, as they printed it: medians, and ratios against a peer measured in the",
+        "same run. Wall-clock figures depend on the machine and on what else it runs; the ratios travel better.",
+        "",
+    ]
+    kept = sorted((KEPT / "bench").glob("*.txt")) if (KEPT / "bench").exists() else []
+    if not kept:
+        text += ["No benchmark has been kept yet: ``python tools/results.py bench NAME``.", ""]
+    for output in kept:
+        meta = json.loads(output.with_suffix(".json").read_text())
+        title = f"``benchmarks/{output.stem}.py``"
+        text += [title, "-" * len(title), ""] + _facts(meta) + ["::", ""]
+        text += ["   " + line if line.strip() else "" for line in output.read_text().splitlines()] + [""]
+    (PAGES / "speed.rst").write_text("\n".join(text))
+
+
+def update_readme(headline: str) -> None:
+    """The README's headline table, between its results markers."""
+    readme = ROOT / "README.md"
+    text = readme.read_text()
+    start, end = "<!-- results:start -->\n", "<!-- results:end -->"
+    before, rest = text.split(start)
+    readme.write_text(before + start + headline + "\n" + end + rest.split(end, 1)[1])
+
+
+def render() -> None:
+    headline = render_evaluation()
+    render_speed()
+    if headline:
+        update_readme(headline)
+
+
+def main(argv: list[str]) -> None:
+    """``evaluate ARGS``, ``bench NAME ARGS`` or ``render`` (the module's notes); what follows is the command's own."""
+    what = argv[0] if argv else ""
+    if what == "evaluate":
+        collect_evaluate(argv[1:])
+    elif what == "bench" and len(argv) > 1:
+        collect_bench(argv[1], argv[2:])
+    elif what != "render":
+        sys.exit(__doc__)
+    render()
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

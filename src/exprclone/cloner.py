@@ -61,6 +61,22 @@ class CloneResult:
         None when all were given.
     warnings : tuple of str
         What looked wrong with the inputs (:func:`exprclone.role_check.judge_roles`), also issued as ExprCloneWarnings.
+
+    See Also
+    --------
+    exprclone.clone, exprclone.clone_methods : which make it.
+
+    Examples
+    --------
+    >>> import exprclone
+    >>> from exprclone import data
+    >>> result = exprclone.clone(data.photo("126"), data.photo("126", "smile"), data.photo("003"))
+    >>> result.method, result.image.shape, result.image.dtype.name
+    ('e+md', (1350, 1350, 3), 'uint8')
+    >>> sorted(result.landmarks)
+    ['elastic', 'final', 'global', 'local', 'source_expression', 'source_neutral', 'target_neutral']
+    >>> result.db_curve.best == result.lambda_k, result.eri.shape, result.muscle_strengths.shape
+    (True, (1350, 1350), (12,))
     """
 
     image: np.ndarray
@@ -101,6 +117,22 @@ class Cloner:
         with retargeting, if None.
     **keywords
         The same options as keywords (``strength=0.5``), instead of ``options``.
+
+    Raises
+    ------
+    ExprCloneError
+        An option that is not one, one given both ways, or a bad value of one (its ``subject`` the option's name).
+
+    Examples
+    --------
+    >>> from exprclone import data
+    >>> from exprclone.models import default_detector
+    >>> detect = default_detector().detect
+    >>> source, portrait, smile = data.photo("126"), data.photo("003"), data.photo("126", "smile")
+    >>> cloner = Cloner(source, detect(source), portrait, detect(portrait), strength=0.5)
+    >>> results = cloner.clone_methods(smile, detect(smile), ("global", "e+md"))
+    >>> results["e+md"].image.shape, results["e+md"].options.strength
+    ((1350, 1350, 3), 0.5)
     """
 
     def __init__(
@@ -149,7 +181,22 @@ class Cloner:
         *,
         mouth: bool = True,
     ) -> dict[str, CloneResult]:
-        """The source expression on the target face, by each of ``methods`` (see :func:`clone_methods`)."""
+        """The source expression on the target face, by each of ``methods``.
+
+        Parameters
+        ----------
+        source_expression : ndarray of shape (H, W, 3), uint8 RGB
+            The source person with the expression (a photo, or a frame of a video).
+        source_expression_points : ndarray of shape (N, 2)
+            Its landmarks.
+        methods, lambda_k, mouth
+            As for :func:`exprclone.clone_methods`.
+
+        Returns
+        -------
+        dict of str to CloneResult
+            One result per method.
+        """
         chosen = lookup(methods)
         expression = self.expression(source_expression, source_expression_points, check_lambda(lambda_k))
         shapes = self.shapes(expression, {m.shape for m in chosen})

@@ -144,6 +144,29 @@ class Driver:
     ----------
     lambda_k : float, "auto" or None
         None for methods without the elastic model.
+
+    Raises
+    ------
+    ExprCloneError
+        An unknown method, or a bad ``lambda_k``.
+
+    See Also
+    --------
+    prepare : a recorded performance prepared, with its driver.
+
+    Examples
+    --------
+    Frames from anywhere (here a photo of the source smiling), with their landmarks:
+
+    >>> from exprclone import data
+    >>> from exprclone.cloner import Cloner
+    >>> from exprclone.models import default_detector
+    >>> detect = default_detector().detect
+    >>> source, portrait, smile = data.photo("126"), data.photo("003"), data.photo("126", "smile")
+    >>> driver = Driver(Cloner(source, detect(source), portrait, detect(portrait)), "e+md", lambda_k=0)
+    >>> out = driver.render(smile, detect(smile))
+    >>> out.image.shape, out.result.method
+    ((1350, 1350, 3), 'e+md')
     """
 
     def __init__(
@@ -155,7 +178,21 @@ class Driver:
         self._to_target = geometry.fit_rigid(cloner.s_neu, cloner.t_neu, cloner.layout)
 
     def render(self, frame: np.ndarray, points: np.ndarray, index: int = 0) -> DrivenFrame:
-        """The portrait with the expression of one frame, whose landmarks are ``points``."""
+        """The portrait with the expression of one frame.
+
+        Parameters
+        ----------
+        frame : ndarray of shape (h, w, 3), uint8 RGB
+            The source person with an expression.
+        points : ndarray of shape (N, 2)
+            Its landmarks.
+        index : int
+            The frame's number, kept in the output.
+
+        Returns
+        -------
+        DrivenFrame
+        """
         lambda_k = "auto" if self.lambda_k is None else self.lambda_k  # methods without the elastic model ignore it
         result = self.cloner.clone_methods(frame, points, (self.method.name,), lambda_k, mouth=self.mouth)[self.method.name]
         image = result.image
@@ -290,6 +327,32 @@ def prepare(
         How every frame is cloned (:class:`exprclone.options.Options`); the defaults if None.
     **keywords
         The same options as keywords (``strength=0.5``), instead of ``options``.
+
+    Returns
+    -------
+    Recording
+        Its ``frames(...)`` renders a new pass over the performance; its ``driver`` renders any frame.
+
+    Raises
+    ------
+    ExprCloneError
+        A bad option or image; ``NoFaceError`` when the performance shows no face (or none
+        in the neutral frame asked for), or the portrait has none.
+
+    Examples
+    --------
+    The first second of the sample clip driving a portrait of 256 pixels:
+
+    >>> import itertools
+    >>> from exprclone import data
+    >>> from exprclone.io.video import read_frames
+    >>> clip = str(data.clip())
+    >>> first_second = lambda: itertools.islice(read_frames(clip), 25)
+    >>> portrait, _ = resize_portrait(data.photo("003"), None, 256)
+    >>> recording = prepare(portrait, None, first_second, 25.0, neutral_frame="closed", strength=0.8)
+    >>> frames = [out.image for out in recording.frames(first_second())]
+    >>> len(frames), frames[0].shape, recording.driver.cloner.options.strength
+    (25, (256, 256, 3), 0.8)
     """
     elastic = lookup((method,))[0].uses_lambda
     check_lambda(lambda_k)

@@ -14,11 +14,33 @@ class ExprCloneError(ValueError):
     line, the server answers it as JSON with status 400 or 422, and a batch report
     writes it in a row.
 
+    Parameters
+    ----------
+    subject : str
+        Which input: a photo's role (``"target_neutral"``), an option (``"strength"``), a
+        form field, or a file's path.
+    problem : str
+        What is wrong with it, and where it helps, what to do.
+
+    Attributes
+    ----------
+    subject, problem : str
+
     Examples
     --------
-    >>> e = ExprCloneError("portrait", "no face found")
-    >>> str(e), str(e.about({"portrait": "b.jpg"}))
-    ('portrait: no face found', 'b.jpg: no face found')
+    >>> e = ExprCloneError("target_neutral", "no face found")
+    >>> str(e), str(e.about({"target_neutral": "b.jpg"}))
+    ('target_neutral: no face found', 'b.jpg: no face found')
+
+    Any bad input to the public functions raises it:
+
+    >>> import exprclone
+    >>> from exprclone import data
+    >>> try:
+    ...     exprclone.clone(data.photo("126"), data.photo("126", "smile"), data.photo("003"), method="emd")
+    ... except ExprCloneError as error:
+    ...     print(error.subject, "|", error.problem)
+    method | unknown method 'emd'; choose one of: global, local, elastic, global+eri, local+eri, elastic+eri, e+md
     """
 
     def __init__(self, subject: str | os.PathLike[str], problem: str) -> None:
@@ -26,7 +48,17 @@ class ExprCloneError(ValueError):
         self.subject, self.problem = str(subject), problem
 
     def about(self, names: dict[str, str]) -> "ExprCloneError":
-        """The same problem, of the same type, with the subject re-named by ``names`` (unchanged if not in it)."""
+        """The same problem, of the same type, with the subject re-named by ``names``.
+
+        Parameters
+        ----------
+        names : dict of str to str
+            New names of subjects; a subject not in it is kept.
+
+        Returns
+        -------
+        ExprCloneError
+        """
         return type(self)(names.get(self.subject, self.subject), self.problem)
 
     def __reduce__(self) -> tuple[type["ExprCloneError"], tuple[str, str]]:

@@ -21,7 +21,26 @@ def landmarker(name: str) -> Landmarker:
 
 
 def default_detector() -> Landmarker:
-    """The default landmarker (:data:`exprclone.landmarkers.DEFAULT`), shared, for calls that pass none."""
+    """The default landmarker (:data:`exprclone.landmarkers.DEFAULT`, dlib's), shared, for calls that pass none.
+
+    Returns
+    -------
+    Landmarker
+        Its ``detect(image, subject)`` gives the ``(68, 2)`` landmarks of the largest face,
+        or raises :class:`~exprclone.errors.NoFaceError` about ``subject`` when there is none;
+        its model is loaded on the first detection.
+
+    See Also
+    --------
+    landmarker : a landmarker by name (``"dlib"`` or ``"mesh"``).
+
+    Examples
+    --------
+    >>> from exprclone import data
+    >>> detector = default_detector()
+    >>> detector.name, detector.detect(data.photo("003")).shape
+    ('dlib', (68, 2))
+    """
     return landmarker(DEFAULT)
 
 

@@ -68,6 +68,25 @@ class Options:
     retarget : bool
         Make the source's motion the target's before the global and local stages
         (:mod:`exprclone.retarget`); False: the paper's stages.
+
+    Parameters
+    ----------
+    global_warp, global_landmarks, image_warp, strength, only, retarget
+        As the attributes. :func:`exprclone.clone`, :class:`~exprclone.cloner.Cloner` and
+        :func:`exprclone.drive.prepare` take them as ``options=Options(...)`` or as keywords
+        (``strength=0.5``), not both, and check them (:func:`exprclone.checks.check_options` raises
+        :class:`~exprclone.ExprCloneError` naming the option).
+
+    See Also
+    --------
+    exprclone.clone : whose result keeps its options (``result.options``).
+
+    Examples
+    --------
+    >>> Options(strength=0.5, only=("mouth",))
+    Options(global_warp='similarity', global_landmarks=None, image_warp='mesh', strength=0.5, only=('mouth',), retarget=True)
+    >>> Options(global_warp="rbf").global_stage, Options(strength=0.5).full
+    ('rbf', False)
     """
 
     global_warp: str = GLOBAL_WARPS[0]

@@ -70,11 +70,40 @@ def clone(
     Returns
     -------
     CloneResult
+        The image at the target photo's size, and every intermediate stage.
 
     Raises
     ------
     ExprCloneError
-        A bad input, its ``subject`` the photo's role (:data:`ROLES`), ``method``, ``lambda`` or the option's name.
+        A bad input, its ``subject`` the photo's role (:data:`ROLES`), ``method``, ``lambda`` or the option's name;
+        a photo with no face raises its subclass ``NoFaceError``.
+
+    See Also
+    --------
+    clone_methods : several methods at once.
+    Cloner : one pair of neutral faces prepared for many expressions.
+
+    Examples
+    --------
+    >>> import exprclone
+    >>> from exprclone import data
+    >>> result = exprclone.clone(data.photo("126"), data.photo("126", "smile"), data.photo("003"), method="e+md")
+    >>> result.image.shape, result.landmarks["final"].shape
+    ((1350, 1350, 3), (68, 2))
+
+    The options change how the stages run, given as keywords or as ``options=Options(...)`` (not both);
+    bad input says which input is wrong:
+
+    >>> exprclone.clone(data.photo("126"), data.photo("126", "smile"), data.photo("003"), strength=0.5).options.strength
+    0.5
+    >>> from exprclone.options import Options
+    >>> exprclone.clone(data.photo("126"), data.photo("126", "smile"), data.photo("003"), options=Options(only=("mouth",))).options.only
+    ('mouth',)
+    >>> import numpy as np
+    >>> exprclone.clone(data.photo("126"), data.photo("126", "smile"), np.full((400, 400, 3), 128, np.uint8))
+    Traceback (most recent call last):
+    ...
+    exprclone.errors.NoFaceError: target_neutral: no face found (use a frontal photo, or give its landmarks)
     """
     results = clone_methods(
         source_neutral,
@@ -147,6 +176,20 @@ def clone_methods(
     Returns
     -------
     dict of str to CloneResult
+        One result per method, in the order asked.
+
+    Raises
+    ------
+    ExprCloneError
+        As for :func:`clone`; an unknown method names ``method``.
+
+    Examples
+    --------
+    >>> import exprclone
+    >>> from exprclone import data
+    >>> results = exprclone.clone_methods(data.photo("126"), data.photo("126", "smile"), data.photo("003"), ("global", "e+md"))
+    >>> list(results), results["global"].lambda_k is None
+    (['global', 'e+md'], True)
     """
     lookup(methods)
     check_lambda(lambda_k)
