@@ -20,7 +20,6 @@ Example (the run behind the published pages)::
 
 from __future__ import annotations
 
-import argparse
 import csv
 import datetime
 import json
@@ -116,6 +115,8 @@ def _facts(meta: dict) -> list[str]:
 
 
 def _list_table(header: list[str], rows: list[list[str]], widths: str | None = None) -> list[str]:
+    if not rows:
+        return ["No pairs.", ""]
     lines = [".. list-table::", "   :header-rows: 1", ""]
     if widths:
         lines.insert(2, f"   :widths: {widths}")
