@@ -345,6 +345,7 @@ def prepare(
 
     >>> import itertools
     >>> from exprclone import data
+    >>> from exprclone.io.frames import resize_portrait
     >>> from exprclone.io.video import read_frames
     >>> clip = str(data.clip())
     >>> first_second = lambda: itertools.islice(read_frames(clip), 25)

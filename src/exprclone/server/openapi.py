@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 from fastapi import FastAPI
 from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
@@ -50,12 +51,12 @@ class ErrorAnswer(BaseModel):
     }
 
 
-def errors(*statuses: int) -> dict[int | str, dict]:
+def errors(*statuses: int) -> dict[int | str, dict[str, Any]]:
     """The ``responses=`` of a route that can answer with these error statuses."""
     return {status: {"model": ErrorAnswer, "description": MEANING[status]} for status in statuses}
 
 
-def _without_validation_errors(schema: dict) -> dict:
+def _without_validation_errors(schema: dict[str, Any]) -> dict[str, Any]:
     """The schema with FastAPI's default 422 answers (those not declared by :func:`errors`) and their models removed."""
     for path in schema.get("paths", {}).values():
         for operation in path.values():
@@ -72,7 +73,7 @@ def document(app: FastAPI) -> None:
     """The schema as :mod:`exprclone.server.openapi` says, and the offline ``/docs`` and ``/redoc`` pages."""
     make_schema = app.openapi
 
-    def openapi() -> dict:
+    def openapi() -> dict[str, Any]:
         if app.openapi_schema is None:
             app.openapi_schema = _without_validation_errors(make_schema())
         return app.openapi_schema
