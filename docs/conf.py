@@ -28,6 +28,8 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.intersphinx",
     "sphinx.ext.mathjax",
+    # MathJax 3 from the package's own copy, put in the build's _static/: the equations render with no network
+    "sphinx-mathjax-offline",
     "sphinx.ext.viewcode",
     "sphinx_design",
     "numpydoc",
