@@ -11,10 +11,11 @@ recording then renders the frames. Here, every tenth frame as a strip.
 import matplotlib.pyplot as plt
 
 from exprclone import data, drive
+from exprclone.io.frames import resize_portrait
 from exprclone.io.video import probe, read_frames
 
 clip = str(data.clip())
-portrait, _ = drive.resize_portrait(data.photo("003"), None, 256)
+portrait, _ = resize_portrait(data.photo("003"), None, 256)
 recording = drive.prepare(portrait, None, lambda: read_frames(clip), float(probe(clip).fps), neutral_frame="closed")
 print(f"neutral frame {recording.neutral_index}, lambda_k {recording.driver.lambda_k:g}")
 

@@ -126,7 +126,7 @@ def _list_table(header: list[str], rows: list[list[str]], widths: str | None = N
 
 
 def _rows(path: Path) -> list[dict]:
-    """``pairs.csv`` as :func:`exprclone.evaluation.report.summarise` takes it: scores as numbers, failures as booleans."""
+    """``pairs.csv`` as :func:`exprclone.evaluation.statistics.summarise` takes it: scores as numbers, failures as booleans."""
     numbers = ("target_smile", "overall", "mouth", "eyes_brows", "identity", "teeth", "source_teeth")
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
@@ -190,7 +190,7 @@ def _scores_figure(summaries: dict[str, list[dict]], out: Path) -> None:
 
 def render_evaluation() -> str | None:
     """``evaluation.rst`` from the kept report; the README's headline table (Markdown)."""
-    from exprclone.evaluation.report import STRONG_SMILE, contrasts, summarise
+    from exprclone.evaluation.statistics import STRONG_SMILE, contrasts, summarise
 
     kept = KEPT / "evaluate"
     if not (kept / "pairs.csv").exists():
