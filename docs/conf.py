@@ -60,6 +60,8 @@ numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
 autodoc_member_order = "bysource"
 autodoc_typehints = "none"
+# signatures show defaults as the source writes them (layout=DLIB68), not as their repr (the whole table)
+autodoc_preserve_defaults = True
 autosummary_generate = False
 
 intersphinx_mapping: dict[str, tuple[str, None]] = {}
@@ -78,6 +80,8 @@ sphinx_gallery_conf = {
     "min_reported_time": 1,
     "abort_on_example_error": True,
     "plot_gallery": "True",
+    # no pages of the examples' run times: they load their table's scripts from a CDN, and the site loads nothing from another host
+    "write_computation_times": False,
 }
 
 
