@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
+from server import interruptible
 from studies import METHOD_NAME, METHODS, SETS, SIZE, key, manifest, study
 
 import exprclone
@@ -118,7 +119,7 @@ def test_bad_options_are_refused_before_any_work(tmp_path, args, message):
 def test_ctrl_c_leaves_nothing(tmp_path):
     sets = [(f"{s}-{t}", s, t) for s in ("001", "003", "126") for t in ("001", "003", "126") if s != t]  # 6 sets by 7 methods
     command = [sys.executable, "-m", "exprclone", "study", "make", str(manifest(tmp_path, sets)), "-o", str(tmp_path / "study")]
-    process = subprocess.Popen([*command, "--size", str(SIZE), "--jobs", "1"], stderr=subprocess.PIPE, text=True)
+    process = subprocess.Popen([*command, "--size", str(SIZE), "--jobs", "1"], stderr=subprocess.PIPE, text=True, preexec_fn=interruptible)
     deadline, photos = time.time() + 120, 3 + 3  # each person's two photos: more images than these are results
     while time.time() < deadline and sum(len(list(p.glob("images/*.png"))) for p in tmp_path.glob(".study.partial-*")) <= photos:
         time.sleep(0.05)

@@ -7,6 +7,7 @@ import sys
 import numpy as np
 import pytest
 from conftest import GRID_CLIPS, need_full_data, neutral_path
+from server import interruptible
 
 from exprclone import data as samples
 from exprclone import drive, models, mouth, pipeline, tracking
@@ -194,6 +195,7 @@ def test_an_interrupted_run_says_so_and_leaves_no_file(grid_clip, tmp_path):
         [sys.executable, "-m", "exprclone", "video", str(PORTRAIT), str(grid_clip), "-o", str(out), "--size", "256"],
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=interruptible,
     )
     deadline = time.time() + 60
     while not any(tmp_path.iterdir()) and time.time() < deadline and p.poll() is None:
