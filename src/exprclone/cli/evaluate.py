@@ -61,6 +61,15 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         "--strengths", type=listed(strength_arg, "strength"), default=(1.0,), metavar="LIST", help="comma-separated strengths (default 1)"
     )
     e.add_argument(
+        "--expression",
+        type=lambda text: tuple(v.strip() for v in text.split(",")),
+        default=(),
+        metavar="LIST",
+        help="also clone these built-in expressions (names, or .json files: tools/build_expressions.py) onto every person"
+        " not made into them, scored beside the pairs' individual sources on the same targets; expressions of one name"
+        " made without different people (--folds) score each person with the first made without them",
+    )
+    e.add_argument(
         "--retargets",
         type=lambda text: tuple(value == "on" for value in listed(("on", "off"), "retarget")(text)),
         default=(True,),
@@ -73,11 +82,14 @@ def run(args: argparse.Namespace) -> None:
     from pathlib import Path
 
     from .. import data as samples
+    from ..evaluation.expression import held_out
+    from ..evaluation.expression import section as expression_section
     from ..evaluation.london import Dataset
     from ..evaluation.report import contrast_table, table, write_report
     from ..evaluation.runner import run as score
     from ..evaluation.runner import variants
     from ..evaluation.statistics import contrasts, summarise
+    from ..expressions import load
     from ..io.progress import Bar
     from ..methods import METHODS, lookup
 
@@ -90,12 +102,21 @@ def run(args: argparse.Namespace) -> None:
     pairs = data.pairs(args.pairs, args.seed)
     chosen = variants(args.global_warps, args.image_warps, args.strengths, args.retargets)
     bar = lambda total, what: Bar(sys.stderr, total, what)  # noqa: E731
+    held = held_out([load(name) for name in args.expression], data) if args.expression else []
     rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=bar, variants=chosen, landmarker=args.landmarker)
+    pair_rows = list(rows)
+    sections: list[str] = []
+    if held:
+        jobs = max(1, args.jobs)
+        found, sections = expression_section(Path(args.out), data, held, rows, landmarks, methods, chosen, jobs, bar, args.landmarker)
+        rows += found
     command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"
-    write_report(Path(args.out), data, rows, landmarks, methods, command, chosen)
+    write_report(Path(args.out), data, rows, landmarks, methods, command, chosen, tuple(sections))
     print(table(summarise(rows)))
     print(f"strong smiles only:\n{table(summarise(rows, strong_only=True))}")
-    if contrasts(rows):
-        print(f"pair by pair:\n{contrast_table(contrasts(rows))}")
-        print(f"strong smiles only:\n{contrast_table(contrasts(rows, strong_only=True))}")
+    if contrasts(pair_rows):
+        print(f"pair by pair:\n{contrast_table(contrasts(pair_rows))}")
+        print(f"strong smiles only:\n{contrast_table(contrasts(pair_rows, strong_only=True))}")
+    if sections:
+        print(sections[2])
     print(f"report: {Path(args.out) / 'summary.md'}")

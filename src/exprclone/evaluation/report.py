@@ -34,6 +34,7 @@ def table(summary: list[Row]) -> str:
         "identity < 0.6",
         "shows teeth: source does",
         "shows teeth: source does not",
+        "judged smiling",
     ]
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     for s in summary:
@@ -44,6 +45,7 @@ def table(summary: list[Row]) -> str:
             f"{100 * s['same_person']:.0f}%",
             _share(s["teeth_kept"], s["teeth_sources"]),
             _share(s["teeth_invented"], s["closed_sources"]),
+            "-" if np.isnan(s["smiling"]) else f"{100 * s['smiling']:.0f}%",
         ]
         lines.append("| " + " | ".join(map(str, values)) + " |")
     return "\n".join(lines)
@@ -76,16 +78,18 @@ def write_report(
     methods: tuple[str, ...],
     command: str,
     variants: tuple[Variant, ...] = (PAPER,),
+    sections: tuple[str, ...] = (),
 ) -> str:
     """``pairs.csv``, ``summary.md`` (with the variants against the default setting, :func:`contrasts`, if there are
-    any) and the gallery (:func:`_gallery`) of e+md pairs in the first variant."""
+    any, then the paragraphs of ``sections``) and the gallery (:func:`_gallery`) of e+md pairs in the first variant."""
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "pairs.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, FIELDS)
         writer.writeheader()
         writer.writerows(rows)
-    n_pairs = len({(r["source"], r["target"]) for r in rows})
-    n_strong = len({(r["source"], r["target"]) for r in rows if float(r["target_smile"]) >= STRONG_SMILE})
+    pair_rows = [r for r in rows if r["source"] in data.ids]  # not a built-in expression's (sections)
+    n_pairs = len({(r["source"], r["target"]) for r in pair_rows})
+    n_strong = len({(r["source"], r["target"]) for r in pair_rows if float(r["target_smile"]) >= STRONG_SMILE})
     text = [
         "# exprclone evaluation",
         "",
@@ -96,8 +100,9 @@ def write_report(
         "outer-eye-corner distances after similarity alignment; identity is dlib's face-descriptor",
         "distance to the target's neutral photo (same person below 0.6). Teeth show when tooth-coloured",
         f"pixels (paler and brighter than the lips) cover at least {TEETH_SHOWN} squared mouth widths",
-        "inside the inner lips (`exprclone.evaluation.teeth`); the last two columns give, of the pairs",
-        "whose source's real smile shows teeth and of those whose does not, the share of results that do.",
+        "inside the inner lips (`exprclone.evaluation.teeth`); the two teeth columns give, of the pairs whose source's",
+        "real smile shows teeth and of those whose does not, the share of results that do; the last, the share that the",
+        "expression judge (a classifier on the landmarks, trained without the pair's two people) calls smiling.",
         "",
         "## All pairs",
         "",
@@ -108,10 +113,11 @@ def write_report(
         table(summarise(rows, strong_only=True)),
         "",
     ]
-    if contrasts(rows):
+    if contrasts(pair_rows):
         text += ["## Pair by pair: the elastic model on its GI in each variant, and each variant against the default", ""]
         text += ["All pairs, then the strong smiles.", ""]
-        text += [contrast_table(contrasts(rows)), "", contrast_table(contrasts(rows, strong_only=True)), ""]
+        text += [contrast_table(contrasts(pair_rows)), "", contrast_table(contrasts(pair_rows, strong_only=True)), ""]
+    text += [line for section in sections for line in (section, "")]
     gallery = _gallery(out, data, rows, landmarks, "e+md" if "e+md" in methods else methods[-1], variants[0])
     if gallery:
         text += [

@@ -11,6 +11,11 @@ Every row also says how much tooth shows in its image and in A's real smile
 summary gives the share of results that show teeth too, and of the others, the share
 that shows teeth where the source showed none.
 
+Every row also says how likely the expression judge (:mod:`exprclone.evaluation.judge`, a
+classifier on the landmarks detected on the image, trained on the data set's other people:
+neither the source nor the target) finds that it smiles; the summary gives the share judged
+smiling.
+
 Each row says how strongly the target smiles (:func:`smile_strength`), so that the
 statistics (:mod:`exprclone.evaluation.statistics`) can be given for the strong smiles
 alone; :mod:`exprclone.evaluation.report` writes them out.
@@ -33,7 +38,8 @@ import itertools
 import multiprocessing
 import time
 import warnings
-from typing import Any
+from collections.abc import Callable, Iterator
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -41,7 +47,7 @@ from .. import geometry, global_warp
 from ..cloner import CloneResult
 from ..errors import ExprCloneError, naming
 from ..io.images import load_image
-from ..io.progress import Progress, Quiet
+from ..io.progress import Display, Progress, Quiet
 from ..landmarkers import DEFAULT
 from ..layout import DLIB68
 from ..models import landmarker as shared
@@ -49,6 +55,7 @@ from ..mouth import mouth_width
 from ..options import GLOBAL_WARPS, IMAGE_WARPS, Options
 from ..pipeline import clone_methods
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
+from .judge import trained_without
 from .london import Dataset
 from .scores import FaceDescriptor, identity_distance, landmark_error, teeth
 
@@ -57,6 +64,8 @@ from .scores import FaceDescriptor, identity_distance, landmark_error, teeth
 JUDGE = "dlib"
 #: one variant of the clone's options: the label its rows' names carry (:func:`variant_label`), and the options.
 Variant = tuple[str, Options]
+T = TypeVar("T")
+U = TypeVar("U")
 #: one row of scores (:data:`FIELDS`).
 Row = dict[str, Any]
 #: the two references scored beside the methods: the target's neutral photo (the floor) and its real smile (the ceiling).
@@ -79,7 +88,10 @@ FIELDS = (
     "source_teeth",
     "lambda_k",
     "variant",
+    "smiling",
 )
+#: a result to score, by its row's name: ``(image or None, failure, lambda_k, variant label)``.
+Candidate = tuple[np.ndarray | None, str, float | None, str]
 #: the default setting: the variant of no options (retargeting on), whose rows carry the methods' bare names.
 PAPER: Variant = ("", Options())
 
@@ -150,7 +162,7 @@ def clone_pair(
 
 def _candidates(
     data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict[str, np.ndarray], variant: Variant
-) -> dict[str, tuple[np.ndarray | None, str, float | None, str]]:
+) -> dict[str, Candidate]:
     """Each method's result in one variant, by its row's name: ``(image or None, failure, lambda_k, variant label)``."""
     label, options = variant
     try:
@@ -179,30 +191,42 @@ def score_pair(
         One row of :data:`FIELDS` per method and variant, and per reference.
     """
     a, b = pair
-    tn, ts, source_smile = data.path(b, False), data.path(b, True), data.path(a, True)
-    truth = landmarks[ts]
+    source_smile = data.path(a, True)
     source_teeth = teeth(photo(source_smile), landmarks[source_smile], DLIB68)
-    target_descriptor = _descriptor()(photo(tn), landmarks[tn])
-    target_smile = smile_strength(landmarks[tn], truth)
-    candidates: dict[str, tuple[np.ndarray | None, str, float | None, str]] = {
-        "no change": (photo(tn), "", None, ""),
-        "real": (photo(ts), "", None, ""),
+    candidates: dict[str, Candidate] = {
+        "no change": (photo(data.path(b, False)), "", None, ""),
+        "real": (photo(data.path(b, True)), "", None, ""),
     }
     for variant in variants:
         candidates.update(_candidates(data, pair, methods, landmarks if inputs is None else inputs, variant))
+    return scored_rows(data, pair, candidates, source_teeth, landmarks)
+
+
+def scored_rows(
+    data: Dataset, pair: tuple[str, str], candidates: dict[str, Candidate], source_teeth: float, landmarks: dict[str, np.ndarray]
+) -> list[Row]:
+    """Each of ``candidates`` (by row name; ``real`` and ``no change`` the target's own photos) scored against the real
+    smile of ``pair``'s target, a row of :data:`FIELDS` each; the source (a person, or a built-in expression's name)
+    shows ``source_teeth``; the expression judge is trained without either (:func:`exprclone.evaluation.judge.trained_without`)."""
+    source, target = pair
+    tn, ts = data.path(target, False), data.path(target, True)
+    truth, known = landmarks[ts], {"real": landmarks[ts], "no change": landmarks[tn]}
+    target_descriptor = _descriptor()(photo(tn), landmarks[tn])
+    target_smile = smile_strength(landmarks[tn], truth)
+    judged = trained_without(data, landmarks, pair)
     rows = []
     for method, (image, failed, lam, label) in candidates.items():
         row: Row = dict.fromkeys(FIELDS, "")
-        row.update(source=a, target=b, method=method, target_smile=round(target_smile, 4), lambda_k="" if lam is None else lam)
+        row.update(source=source, target=target, method=method, target_smile=round(target_smile, 4), lambda_k="" if lam is None else lam)
         row["variant"] = label
         row["source_teeth"] = round(source_teeth, 5)
         if image is not None:
             try:
-                known = {"real": landmarks[ts], "no change": landmarks[tn]}
                 found = known[method] if method in known else shared(JUDGE).detect(image, f"{method} result")
                 row.update(landmark_error(found, truth, DLIB68))
                 row["identity"] = identity_distance(_descriptor()(image, found), target_descriptor)
                 row["teeth"] = round(teeth(image, found, DLIB68), 5)
+                row["smiling"] = "" if judged is None else round(judged(found), 4)
             except ExprCloneError as e:
                 failed = str(e)
         row["failed"] = failed
@@ -239,7 +263,7 @@ def run(
     landmarks : dict of str to ndarray
         The judge's landmarks on each photo, by path (detected once, shared by all pairs).
     """
-    people = sorted({p for pair in pairs for p in pair})
+    people = data.ids  # all of them: the expression judge learns from the people not in a pair
     paths = [data.path(p, s) for p in people for s in (False, True)]
     landmarks: dict[str, np.ndarray] = {}
     inputs: dict[str, np.ndarray] = {}
@@ -248,11 +272,15 @@ def run(
         landmarks[path] = shared(JUDGE).detect(photo(path), path)
         inputs[path] = landmarks[path] if landmarker == JUDGE else shared(landmarker).detect(photo(path), path)
         bar.update(k)
-    rows: list[Row] = []
     tasks = [(data, pair, methods, landmarks, variants, inputs) for pair in pairs]
-    bar, start = progress(len(pairs), "pairs"), time.perf_counter()
-    with multiprocessing.get_context("fork").Pool(jobs) if jobs > 1 else contextlib.nullcontext() as pool:
-        for k, pair_rows in enumerate(pool.imap(_score, tasks) if pool else map(_score, tasks), 1):
-            rows += pair_rows
-            bar.update(k, f"{(time.perf_counter() - start) / k:.1f} s each")
+    rows = [row for pair_rows in in_parallel(_score, tasks, jobs, progress(len(pairs), "pairs")) for row in pair_rows]
     return rows, landmarks
+
+
+def in_parallel(function: Callable[[T], U], tasks: list[T], jobs: int, bar: Display) -> Iterator[U]:
+    """``function`` of each task, in order, in ``jobs`` processes (forked: they share what is loaded); ``bar`` told of each."""
+    start = time.perf_counter()
+    with multiprocessing.get_context("fork").Pool(jobs) if jobs > 1 else contextlib.nullcontext() as pool:
+        for k, out in enumerate(pool.imap(function, tasks) if pool else map(function, tasks), 1):
+            yield out
+            bar.update(k, f"{(time.perf_counter() - start) / k:.1f} s each")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .judge import SMILING
 from .runner import REFERENCES, Row
 from .scores import SAME_PERSON, TEETH_SHOWN
 
@@ -47,6 +48,8 @@ def summarise(rows: list[Row], strong_only: bool = False, baseline: str = "globa
             line[f"{key}_median"] = float(np.median(values)) if len(values) else float("nan")
         ids = np.array([r["identity"] for r in ok], np.float64)
         line["same_person"] = float((ids < SAME_PERSON).mean()) if len(ids) else float("nan")
+        judged = np.array([float(r["smiling"]) for r in ok if r.get("smiling", "") != ""], np.float64)
+        line["smiling"] = float((judged >= SMILING).mean()) if len(judged) else float("nan")
         diff = np.array([r["mouth"] - base[pair_of(r)] for r in ok if pair_of(r) in base], np.float64)
         line["mouth_vs_baseline"] = float(diff.mean()) if len(diff) else float("nan")
         line["mouth_vs_baseline_se"] = float(diff.std(ddof=1) / np.sqrt(len(diff))) if len(diff) > 1 else float("nan")
