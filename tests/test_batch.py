@@ -15,7 +15,7 @@ from server import interruptible
 
 import exprclone
 from exprclone import data as samples
-from exprclone import models, pipeline
+from exprclone import expressions, models, pipeline
 from exprclone.batch import job, work
 from exprclone.batch.manifest import read_manifest
 from exprclone.io.images import load_image
@@ -208,3 +208,25 @@ def test_a_scheduler_that_cannot_be_reached_is_one_line(tmp_path):
     p = run(manifest(tmp_path, [("126", "003", "a.png")]), "--scheduler", "no-port-here")
     assert p.returncode == 2 and p.stderr.startswith("exprclone: error: --scheduler: cannot reach a Dask scheduler at no-port-here")
     assert len(p.stderr.strip().splitlines()) == 1
+
+
+def test_a_built_in_expression_on_a_folder_of_portraits(tmp_path):
+    """With --expression the expression's own landmarks are used (a composite's are not detected): the Python API's image."""
+    p = run("--expression", "smile", "--targets", samples.london() / "neutral_front" / "003_03.jpg", "--out", tmp_path, "--strength", "0.8")
+    assert p.returncode == 0, p.stderr
+    assert report(tmp_path)[0]["source_expression"] == str(samples.folder().resolve() / "expressions" / "smile-expression.jpg")
+    expected = expressions.clone(load_image(samples.path("003")), "smile", strength=0.8)
+    assert np.array_equal(pixels(tmp_path / "003_03.png"), expected.image)
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--expression", "smile"], "--expression: goes with --targets"),
+        (["--expression", "smile", "--targets", "x", "--source-neutral", "a.jpg"], "--expression: goes with --targets, instead of"),
+        (["--expression", "grin", "--targets", "x", "--out", "o"], "--expression: unknown expression 'grin'"),
+    ],
+)
+def test_a_built_in_expression_in_the_wrong_company_is_one_line(tmp_path, args, message):
+    p = run(*args, cwd=tmp_path)
+    assert p.returncode == 2 and p.stderr.startswith(f"exprclone: error: {message}") and len(p.stderr.strip().splitlines()) == 1

@@ -1,9 +1,11 @@
 """The command: a real run, and every bad input ending in one line, exit 2, no output."""
 
+import csv
 import json
 import os
 import subprocess
 import sys
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -11,6 +13,8 @@ from conftest import neutral_path, smile_path
 from PIL import Image
 
 import exprclone
+import exprclone.expressions
+from exprclone.expressions.files import write
 
 SN, SE, TN = str(neutral_path("001")), str(smile_path("001")), str(neutral_path("003"))
 
@@ -259,3 +263,59 @@ def test_hostile_files_end_in_one_line_and_exit_2(tmp_path, kind, content, probl
 def test_version_prints_the_version():
     done = run("--version")
     assert done.returncode == 0 and done.stdout.strip() == f"exprclone {exprclone.__version__}"
+
+
+def test_expressions_lists_the_built_in_names():
+    p = run("expressions")
+    assert p.returncode == 0 and p.stdout.split() == list(exprclone.expressions.names()) and "smile" in p.stdout.split()
+
+
+def test_clone_one_photo_with_a_built_in_expression(london, tmp_path):
+    out, record = tmp_path / "out.png", tmp_path / "out.json"
+    p = run("clone", TN, "--expression", "smile", "--strength", "0.7", "--only", "mouth", "-o", out, "--save-json", record)
+    assert p.returncode == 0, p.stderr
+    assert "expression smile" in p.stdout and "strength 0.7" in p.stdout and "only mouth" in p.stdout
+    data = json.loads(record.read_text())
+    assert data["inputs"]["target_neutral"] == TN and data["inputs"]["source_expression"] == "--expression smile (expression)"
+    smile = exprclone.expressions.load("smile")
+    assert np.allclose(data["landmarks"]["source_expression"], smile.expression.points, atol=1e-3)
+    assert Image.open(out).size == Image.open(TN).size
+
+
+@pytest.mark.parametrize(
+    "args, needle",
+    [
+        ([SN, SE, TN, "--expression", "smile"], "--expression: give the target's photo alone"),
+        ([SN, TN, "--expression", "smile"], "--expression: give the target's photo alone"),
+        ([TN], "source_neutral: missing: give the source's neutral and expression photos"),
+        ([SN, TN], "source_expression: missing"),
+        ([TN, "--expression", "grin"], "--expression: unknown expression 'grin'; the built-in expressions are: smile, smile-001"),
+        ([TN, "--expression", "smile", "--source-neutral-landmarks", "x.json"], "--source-neutral-landmarks: not with --expression"),
+    ],
+)
+def test_a_built_in_expression_with_the_wrong_photos_is_one_line(london, tmp_path, args, needle):
+    expect_error(tmp_path, args, needle)
+
+
+def test_compare_with_a_built_in_expression(london, tmp_path):
+    out = tmp_path / "sheet.jpg"
+    p = run("compare", TN, "--expression", "smile-126", "-o", out)
+    assert p.returncode == 0, p.stderr
+    assert Image.open(out).size[0] == 8 * 320
+
+
+def test_evaluate_scores_an_expression_only_on_people_it_was_not_made_from(london, tmp_path):
+    p = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global", "--expression", "smile-126", "--out", tmp_path)
+    assert p.returncode == 0, p.stderr
+    rows = list(csv.DictReader(open(tmp_path / "pairs.csv")))
+    mine = [r for r in rows if r["method"] == "global [smile-126]"]
+    assert sorted(r["target"] for r in mine) == ["001", "003"] and all(r["source"] == "smile-126" for r in mine)
+    assert "## Built-in expressions against the individual sources" in (tmp_path / "summary.md").read_text()
+    assert (tmp_path / "expressions.jpg").is_file()
+
+
+def test_evaluate_refuses_an_expression_made_from_everyone(london, tmp_path):
+    made = exprclone.expressions.load("smile-126")
+    every = write(replace(made, name="everyone", people=("001", "003", "126")), tmp_path)
+    p = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global", "--expression", every, "--out", tmp_path / "report")
+    assert p.returncode == 2 and "--expression: every person in" in p.stderr and "helped make everyone" in p.stderr

@@ -97,3 +97,20 @@ def test_compare_draws_figure_19(page):
     page.wait_for_function("document.querySelector('#sheet').naturalWidth > 0", timeout=CLONE_TIMEOUT)
     assert page.evaluate("document.querySelector('#sheet').naturalWidth") == 6 * 320
     assert "Figs. 19-21" in page.text_content("#sheet-caption")
+
+
+def test_a_built_in_expression_needs_one_photo(page):
+    page.reload()
+    page.check("#source-builtin")
+    assert page.is_hidden("[data-field=source_neutral]") and page.is_hidden("[data-field=source_expression]")
+    page.wait_for_function("document.querySelectorAll('#expression option').length >= 2", timeout=CLONE_TIMEOUT)
+    page.select_option("#expression", "smile")
+    page.set_input_files("input[type=file][name=target_neutral]", str(samples.path("001")))
+    page.click("#clone")
+    page.wait_for_function(
+        "document.querySelector('#busy').hidden && document.querySelector('img#result').naturalWidth > 0", timeout=CLONE_TIMEOUT
+    )
+    assert page.is_hidden("#error"), page.text_content("#error")
+    assert "expression smile" in page.text_content("#result-caption")
+    page.check("#source-photos")
+    assert page.is_visible("[data-field=source_neutral]") and page.is_disabled("#expression")

@@ -17,6 +17,7 @@ from server import Server
 import exprclone
 import exprclone.models
 from exprclone import data as samples
+from exprclone import expressions
 from exprclone.io.images import load_image
 from exprclone.io.landmarks import read_landmarks, write_landmarks
 from exprclone.io.video import probe, read_frames
@@ -361,3 +362,35 @@ def test_a_video_job_with_the_transfer_options(client):
     assert state["state"] == "done" and state["info"]["frames"] == 75, state
     r = client.post("/api/video", files=video_files, data={"strength": "-1"})
     assert r.status_code == 400 and r.json()["error"].startswith("strength: "), r.text
+
+
+def test_the_built_in_expressions_are_listed(client):
+    listed = client.get("/api/expressions").json()["expressions"]
+    assert [e["name"] for e in listed] == list(expressions.names()) and all(e["description"] for e in listed)
+
+
+def test_clone_one_photo_with_a_built_in_expression_answers_the_python_apis_image(client, sample_images):
+    images, landmarks = sample_images
+    expected = expressions.clone(images[2], "smile", strength=0.5, only=("mouth",), target_landmarks=landmarks[2])
+    target = {"target_neutral": files()["target_neutral"]}
+    r = client.post("/api/clone?format=json", files=target, data={"expression": "smile", "strength": "0.5", "only": "mouth"})
+    assert r.status_code == 200, r.text
+    record = r.json()
+    assert record["inputs"]["source_expression"] == "expression smile (expression)" and record["options"]["only"] == ["mouth"]
+    assert np.array_equal(np.asarray(Image.open(io.BytesIO(base64.b64decode(record["png"]))).convert("RGB")), expected.image)
+    r = client.post("/api/compare", files=target, data={"expression": "smile-001"})
+    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (8 * 320, 3 * 320)
+
+
+@pytest.mark.parametrize(
+    "sent, form, message",
+    [
+        (("target_neutral",), {"expression": "grin"}, "expression: unknown expression 'grin'; the built-in expressions are: smile"),
+        (PHOTOS, {"expression": "smile"}, "source_neutral: not with an expression"),
+        (("source_expression", "target_neutral"), {"expression": "smile"}, "source_expression: not with an expression"),
+        (("target_neutral",), {}, "source_neutral: missing"),
+    ],
+)
+def test_a_built_in_expression_with_the_wrong_photos_is_one_error(client, sent, form, message):
+    r = client.post("/api/clone", files={f: files()[f] for f in sent}, data=form)
+    assert r.status_code == 400 and r.json()["error"].startswith(message), r.text

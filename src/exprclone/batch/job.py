@@ -183,12 +183,15 @@ def run(
     overwrite: bool = False,
     cache: Path | None = None,
     progress: Progress = Quiet,
+    known: dict[str, np.ndarray] | None = None,
 ) -> None:
     """Do the job, recording the outcome of every row in ``outcomes`` by its number (skipped, done or failed) as it comes.
 
     ``progress(total, what)`` makes a display with ``update(done, note)`` (:data:`exprclone.io.progress.Progress`).
+    ``known`` landmarks (by path: a built-in expression's photos) are taken as they are, not detected.
     After Ctrl-C, ``outcomes`` holds what finished.
     """
+    known = known or {}
     outcomes.update({row.number: work.Outcome(row.number, "skipped") for row in rows if not overwrite and os.path.exists(row.output)})
     to_do = [row for row in rows if row.number not in outcomes]
     for row in to_do:
@@ -196,7 +199,9 @@ def run(
     if cache is not None:
         cache.mkdir(parents=True, exist_ok=True)
     with backend.running() as map_:
-        landmarks, problems = find_landmarks((p for row in to_do for p in row.photos), map_, cache, progress, options.landmarker)
+        photos = (p for row in to_do for p in row.photos if p not in known)
+        landmarks, problems = find_landmarks(photos, map_, cache, progress, options.landmarker)
+        landmarks.update(known)
         ready = []
         for row in to_do:
             bad = next((p for p in row.photos if p in problems), None)

@@ -8,9 +8,11 @@ import sys
 from typing import TYPE_CHECKING
 
 from ..errors import ExprCloneError
-from .inputs import add_lambda, add_landmarker, add_mouth, add_transfer, transfer_options
+from .inputs import add_expression, add_lambda, add_landmarker, add_mouth, add_transfer, load_expression, transfer_options
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from ..batch.job import Dask, Local
     from ..batch.manifest import Row
 
@@ -25,6 +27,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     b.add_argument("manifest", nargs="?", help="CSV: source_neutral,source_expression,target_neutral,output[,method,lambda]")
     b.add_argument("--source-neutral", metavar="IMAGE", help="with --targets: the source's neutral photo")
     b.add_argument("--source-expression", metavar="IMAGE", help="with --targets: the source's photo with the expression")
+    add_expression(b, "instead of --source-neutral and --source-expression, with --targets")
     b.add_argument("--targets", metavar="DIR_OR_GLOB", help="every portrait in a folder or glob gets the expression: OUT/<name>.png")
     b.add_argument("--out", metavar="DIR", help="where outputs go (default: the manifest's folder; needed with --targets)")
     b.add_argument("--method", choices=METHODS, default="e+md", help="for rows without their own method (default: e+md)")
@@ -55,19 +58,28 @@ def backend_of(args: argparse.Namespace) -> Local | Dask:
     return job.Dask(args.scheduler) if args.scheduler else job.Local(args.jobs)
 
 
-def rows_of(args: argparse.Namespace) -> list[Row]:
-    """The job's rows, from the manifest or from --targets (ExprCloneError for arguments that cannot be used)."""
+def rows_of(args: argparse.Namespace) -> tuple[list[Row], dict[str, np.ndarray]]:
+    """The job's rows, from the manifest or from --targets, and the landmarks known of their photos (a built-in
+    expression's); ExprCloneError for arguments that cannot be used."""
     from ..batch.manifest import read_manifest, rows_for_targets
 
     if args.manifest and args.targets:
         raise ExprCloneError("batch", "give a manifest or --targets, not both")
+    if args.expression is not None:
+        if not args.targets or args.source_neutral or args.source_expression:
+            raise ExprCloneError("--expression", "goes with --targets, instead of --source-neutral and --source-expression")
+        expression = load_expression(args.expression)
+        if not args.out:
+            raise ExprCloneError("--targets", "needs --out")
+        known = dict(zip(expression.files, (expression.neutral.points, expression.expression.points)))
+        return rows_for_targets(*expression.files, args.targets, args.out), known
     if args.targets:
         if not (args.source_neutral and args.source_expression and args.out):
-            raise ExprCloneError("--targets", "needs --source-neutral, --source-expression and --out")
-        return rows_for_targets(args.source_neutral, args.source_expression, args.targets, args.out)
+            raise ExprCloneError("--targets", "needs --source-neutral and --source-expression (or --expression), and --out")
+        return rows_for_targets(args.source_neutral, args.source_expression, args.targets, args.out), {}
     if not args.manifest:
         raise ExprCloneError("batch", "give a manifest CSV, or --targets with --source-neutral, --source-expression and --out")
-    return read_manifest(args.manifest, args.out)
+    return read_manifest(args.manifest, args.out), {}
 
 
 def run(args: argparse.Namespace) -> None:
@@ -77,14 +89,15 @@ def run(args: argparse.Namespace) -> None:
     from ..io.progress import Bar
 
     backend = backend_of(args)
-    rows = rows_of(args)
+    rows, known = rows_of(args)
     folder = Path(args.out or Path(args.manifest).resolve().parent)
     report = args.report or str(folder / "report.csv")
     options = work.JobOptions(args.method, args.lambda_k, args.mouth, transfer_options(args), args.landmarker)
     cache = None if args.cache is None else Path(args.cache)
     outcomes: dict[int, work.Outcome] = {}
     try:
-        job.run(rows, options, backend, outcomes, overwrite=args.overwrite, cache=cache, progress=lambda n, what: Bar(sys.stderr, n, what))
+        bar = lambda n, what: Bar(sys.stderr, n, what)  # noqa: E731
+        job.run(rows, options, backend, outcomes, overwrite=args.overwrite, cache=cache, progress=bar, known=known)
     except ExprCloneError:  # the job could not go on (a worker died, the cluster went): keep the report of what finished
         job.write_report(report, rows, outcomes)
         raise

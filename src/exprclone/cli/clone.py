@@ -6,7 +6,7 @@ import argparse
 import json
 
 from ..options import Options
-from .inputs import add_inputs, load_inputs
+from .inputs import add_inputs, load_inputs, source_photos
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -23,7 +23,7 @@ def run(args: argparse.Namespace) -> None:
     from ..io.images import atomic_write, check_output_path, save_image
     from ..io.record import result_record
 
-    paths = [args.source_neutral, args.source_expression, args.target_neutral]
+    paths = source_photos(args)
     check_output_path(args.output, paths)
     if args.save_json:
         check_output_path(args.save_json, paths + [args.output], extensions=[".json"])
@@ -34,7 +34,8 @@ def run(args: argparse.Namespace) -> None:
         record = json.dumps(result_record(result, inputs.names), indent=1).encode()
         atomic_write(args.save_json, lambda f: f.write(record))
     extra = "" if result.lambda_k is None else f", lambda_k={result.lambda_k:g}"
-    print(f"{args.output}: {args.method}{extra}{describe(result.options)}")
+    source = "" if args.expression is None else f", expression {args.expression}"
+    print(f"{args.output}: {args.method}{source}{extra}{describe(result.options)}")
 
 
 def describe(options: Options) -> str:

@@ -6,7 +6,7 @@ import argparse
 from dataclasses import replace
 
 from ..methods import FIGURES
-from .inputs import add_inputs, load_inputs
+from .inputs import add_inputs, load_inputs, source_photos
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -26,7 +26,7 @@ def run(args: argparse.Namespace) -> None:
     from ..evaluation.figures import draw, figure_request
     from ..io.images import check_output_path, save_image
 
-    paths = [args.source_neutral, args.source_expression, args.target_neutral]
+    paths = source_photos(args)
     check_output_path(args.output, paths)
     inputs = load_inputs(args)
     methods, options = figure_request(args.figure, inputs.options, args.global_warp is not None)

@@ -1,4 +1,4 @@
-"""``exprclone demo``: a clone, the comparison sheet and a driven video, from the samples shipped in the package."""
+"""``exprclone demo``: a clone, the built-in smile, the comparison sheet and a driven video, from the samples shipped in the package."""
 
 from __future__ import annotations
 
@@ -37,6 +37,7 @@ def run(args: argparse.Namespace) -> None:
     record = json.dumps(result_record(results["e+md"], {k: str(v) for k, v in paths.items()}), indent=1).encode()
     atomic_write(os.path.join(args.output, "clone.json"), lambda f: f.write(record))
     written["clone.json"] = "the landmarks of every stage, lambda_k and the DB curve"
+    written["smile.png"] = built_in_smile(os.path.join(args.output, "smile.png"), tn)
     from ..evaluation.figures import sheet
 
     save_image(os.path.join(args.output, "compare.jpg"), sheet(results, se))
@@ -45,6 +46,17 @@ def run(args: argparse.Namespace) -> None:
     for name, what in written.items():
         print(f"{os.path.join(args.output, name)}: {what}")
     print(f"samples: {data.folder()} (credits and licence: {data.folder() / 'CREDITS.md'})")
+
+
+def built_in_smile(output: str, portrait: np.ndarray) -> str:
+    """The built-in prototype smile on the portrait (:func:`exprclone.expressions.clone`), from that one photo; what was written."""
+    from .. import data, expressions
+    from ..io.images import save_image
+
+    result = expressions.clone(portrait, expressions.DEFAULT)
+    save_image(output, result.image)
+    lam = "" if result.lambda_k is None else f", lambda_k={result.lambda_k:g}"
+    return f"e+md{lam}: the built-in expression {expressions.DEFAULT!r} on person {data.TARGET}, from that one photo"
 
 
 def drive_video(output: str, portrait: np.ndarray) -> str:

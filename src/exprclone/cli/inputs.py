@@ -11,18 +11,19 @@ from typing import TYPE_CHECKING
 from ..errors import ExprCloneError, naming
 from ..landmarkers import DEFAULT, LANDMARKERS
 from ..options import GLOBAL_WARPS, IMAGE_WARPS, REGIONS, STRENGTH_RANGE, Options
-from ..roles import ROLES
+from ..roles import ROLES, TARGET_NEUTRAL
 
 if TYPE_CHECKING:
     import numpy as np
 
     from ..cloner import CloneResult
     from ..eigenface import Eigenfaces
+    from ..expressions import Expression
 
 #: what each photo (:data:`exprclone.roles.ROLES`) is, for the help.
 PHOTO_HELP = (
-    "photo of the source person, neutral",
-    "photo of the source person with the expression",
+    "photo of the source person, neutral (not with --expression)",
+    "photo of the source person with the expression (not with --expression)",
     "photo of the target person, neutral",
 )
 
@@ -73,9 +74,13 @@ def regions_arg(text: str) -> tuple[str, ...]:
 
 
 def add_inputs(p: argparse.ArgumentParser) -> None:
-    """The three photos, their optional landmark files and the clone options."""
+    """The three photos (or the target's and ``--expression``), their optional landmark files and the clone options."""
     for role, what in zip(ROLES, PHOTO_HELP):
-        p.add_argument(role, help=what)
+        if role == TARGET_NEUTRAL:
+            p.add_argument(role, help=what)
+        else:
+            p.add_argument(role, nargs="?", help=what)
+    add_expression(p, "instead of the source's two photos: give the target's photo alone")
     add_lambda(p, "elasticity ratio k_A'/k_N; auto picks it by the DB metric (default)")
     for role in ROLES:
         which = role.replace("_", "-")
@@ -155,6 +160,38 @@ def transfer_options(args: argparse.Namespace) -> Options:
         only=args.only,
         retarget=default.retarget if args.retarget is None else args.retarget,
     )
+
+
+def add_expression(p: argparse.ArgumentParser, how: str) -> None:
+    p.add_argument("--expression", metavar="NAME", help=f"a built-in expression (exprclone expressions lists them) {how}")
+
+
+def load_expression(name: str) -> Expression:
+    """The built-in expression ``--expression`` names (:func:`exprclone.expressions.load`); errors about ``--expression``."""
+    from ..expressions import load
+
+    with naming({"expression": "--expression"}):
+        return load(name)
+
+
+def source_photos(args: argparse.Namespace) -> list[str]:
+    """The photo files named on the command line, checked: the source's two and the target's, or the target's alone
+    with ``--expression`` (ExprCloneError otherwise)."""
+    given = [p for p in (args.source_neutral, args.source_expression) if p is not None]
+    if args.expression is not None:
+        if given:
+            raise ExprCloneError("--expression", "give the target's photo alone with a built-in expression: it replaces the source's two")
+        landmarks = [f"--{role.replace('_', '-')}-landmarks" for role in ROLES[:2] if getattr(args, f"{role}_landmarks", None)]
+        if landmarks:
+            raise ExprCloneError(landmarks[0], "not with --expression: a built-in expression has its own landmarks")
+        return [args.target_neutral]
+    if len(given) < 2:
+        raise ExprCloneError(
+            ROLES[len(given)],
+            "missing: give the source's neutral and expression photos before the target's, or the target's alone with"
+            " --expression NAME (exprclone expressions lists the names)",
+        )
+    return [args.source_neutral, args.source_expression, args.target_neutral]
 
 
 def add_lambda(p: argparse.ArgumentParser, help: str) -> None:
@@ -245,14 +282,23 @@ class Inputs:
 
 
 def load_inputs(args: argparse.Namespace) -> Inputs:
-    """The three photos named on the command line, loaded, their landmark files read, and the clone's options."""
+    """The three photos named on the command line (or the target's and a built-in expression's two, their landmarks
+    with them), loaded, their landmark files read, and the clone's options."""
     from ..io.images import load_image
     from ..io.landmarks import read_landmarks
 
-    paths = {role: getattr(args, role) for role in ROLES}
-    sn, se, tn = (load_image(p) for p in paths.values())
+    source_photos(args)
     files = [getattr(args, f"{role}_landmarks") for role in ROLES]
-    read = [None if f is None else read_landmarks(f, im.shape) for f, im in zip(files, (sn, se, tn))]
+    if args.expression is None:
+        paths = {role: getattr(args, role) for role in ROLES}
+        sn, se, tn = (load_image(p) for p in paths.values())
+        read = [None if f is None else read_landmarks(f, im.shape) for f, im in zip(files, (sn, se, tn))]
+    else:
+        chosen = load_expression(args.expression)
+        paths = {role: f"--expression {chosen.name} ({part})" for role, part in zip(ROLES, ("neutral", "expression"))}
+        paths[TARGET_NEUTRAL] = args.target_neutral
+        sn, se, tn = chosen.neutral.image, chosen.expression.image, load_image(args.target_neutral)
+        read = [chosen.neutral.points, chosen.expression.points, None if files[2] is None else read_landmarks(files[2], tn.shape)]
     options = transfer_options(args)
     if args.global_landmarks:
         options = dataclasses.replace(options, global_landmarks=read_landmarks(args.global_landmarks, tn.shape))

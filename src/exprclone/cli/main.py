@@ -15,7 +15,7 @@ from typing import TextIO
 
 from .. import __version__
 from ..errors import ExprCloneError
-from . import batch, clone, compare, demo, evaluate, serve, study, video
+from . import batch, clone, compare, demo, evaluate, expressions, serve, study, video
 
 EXIT_USAGE = 2
 #: exit status after Ctrl-C (128 + SIGINT), as shells report it.
@@ -30,6 +30,7 @@ COMMANDS = {
     "demo": demo,
     "evaluate": evaluate,
     "study": study,
+    "expressions": expressions,
 }
 
 

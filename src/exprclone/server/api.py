@@ -13,7 +13,7 @@ from typing import Annotated, Any
 from fastapi import APIRouter, Depends, File, Form, Query, UploadFile
 from fastapi.responses import FileResponse, JSONResponse, Response
 
-from .. import __version__
+from .. import __version__, expressions
 from .. import data as samples
 from ..checks import check_choices, parse_lambda
 from ..errors import ExprCloneError, naming
@@ -45,6 +45,7 @@ LANDMARK_EXTENSIONS = (".json", ".tem")
 MAX_VIDEO_SIZE = 2048
 
 Photo = Annotated[UploadFile, File(description="a photo (JPEG, PNG, ...)")]
+SourcePhoto = Annotated[UploadFile | None, File(description="a photo of the source person (JPEG, PNG, ...); not with expression")]
 Landmarks = Annotated[UploadFile | None, File(description='its landmarks: .json ([[x, y], ...] or {"landmarks": ...}) or a .tem template')]
 Method = Annotated[str, Form(description=f"one of {', '.join(METHODS)}")]
 Lambda = Annotated[str, Form(alias="lambda", description="the elasticity ratio k_A'/k_N: auto (the DB metric chooses) or a number >= 0")]
@@ -110,24 +111,46 @@ async def clone_request(
     method: str,
     lambda_text: str,
     mouth: bool,
-    uploads: dict[str, UploadFile | None],
+    uploads: dict[str, Any],
     transfer: work.Asked,
     figure: str = FIGURES[0],
     landmarker: str = DEFAULT,
 ) -> work.CloneRequest:
-    """The checked request: the method and landmarker known, lambda valid, the options checked, three photos and any
-    landmark files read."""
+    """The checked request: the method and landmarker known, lambda valid, the options checked, three photos (or the
+    target's and a built-in ``expression``, :func:`source_roles`) and any landmark files read."""
     lookup((method,))
     check_landmarker(landmarker)
     lambda_k = parse_lambda(lambda_text)
     if figure not in FIGURES:
         raise ExprCloneError("figure", f"must be {' or '.join(FIGURES)}, got {figure!r}")
-    sn, se, tn = [await read_upload(uploads[role], role) for role in ROLES]
-    marks = [await read_optional(uploads[field], field, LANDMARK_EXTENSIONS) for field in LANDMARK_FIELDS]
+    expression = uploads["expression"]
+    roles = source_roles(uploads, expression)
+    sn, se = [await read_upload(uploads[role], role) if role in roles else None for role in ROLES[:2]]
+    tn = await read_upload(uploads[TARGET_NEUTRAL], TARGET_NEUTRAL)
+    marks = [
+        await read_optional(uploads[f"{role}_landmarks"], f"{role}_landmarks", LANDMARK_EXTENSIONS) if role in roles else None
+        for role in ROLES
+    ]
     given = await read_optional(uploads["global_landmarks"], "global_landmarks", LANDMARK_EXTENSIONS)
     max_pixels = server.settings.max_pixels
-    marked = (marks[0], marks[1], marks[2])
-    return work.CloneRequest((sn, se, tn), marked, method, lambda_k, mouth, max_pixels, transfer, given, figure, landmarker)
+    photos, marked = (sn, se, tn), (marks[0], marks[1], marks[2])
+    asked = (method, lambda_k, mouth, max_pixels, transfer, given, figure, landmarker)
+    return work.CloneRequest(photos, marked, *asked, expression=expression)
+
+
+def source_roles(uploads: dict[str, UploadFile | None], expression: str | None) -> tuple[str, ...]:
+    """The photos a request must send: all three, or with a built-in ``expression`` (a name of
+    :func:`exprclone.expressions.names`) the target's alone (ExprCloneError if the source's photos or landmarks come too)."""
+    if expression is None:
+        return ROLES
+    if expression not in expressions.names():
+        raise ExprCloneError(
+            "expression", f"unknown expression {expression!r}; the built-in expressions are: {', '.join(expressions.names())}"
+        )
+    sent = [f for f in ROLES[:2] + LANDMARK_FIELDS[:2] if (upload := uploads[f]) is not None and (upload.filename or upload.size)]
+    if sent:
+        raise ExprCloneError(sent[0], "not with an expression: a built-in expression takes the place of the source's photos")
+    return (TARGET_NEUTRAL,)
 
 
 @router.get("/", include_in_schema=False)
@@ -156,6 +179,13 @@ async def sample(name: str) -> FileResponse:
     return FileResponse(path, filename=path.name)
 
 
+@router.get("/api/expressions")
+async def expression_names() -> dict[str, list[dict[str, str]]]:
+    """The built-in expressions, for the ``expression`` field of ``/api/clone`` and ``/api/compare``:
+    ``{"expressions": [{"name", "description"}, ...]}``."""
+    return {"expressions": [{"name": name, "description": expressions.load(name).description} for name in expressions.names()]}
+
+
 @router.post("/api/landmarks", responses=errors(400, 413, 422, 503))
 async def landmarks(server: Server, photo: Photo, landmarker: LandmarkerField = DEFAULT) -> dict[str, Any]:
     """The landmarks detected on a photo: ``{"width", "height", "landmarks": [[x, y], ...]}`` (68 points)."""
@@ -166,22 +196,26 @@ async def landmarks(server: Server, photo: Photo, landmarker: LandmarkerField = 
 
 
 async def clone_uploads(
-    source_neutral: Photo,
-    source_expression: Photo,
     target_neutral: Photo,
+    source_neutral: SourcePhoto = None,
+    source_expression: SourcePhoto = None,
+    expression: Annotated[
+        str | None, Form(description="a built-in expression (GET /api/expressions) instead of source_neutral and source_expression")
+    ] = None,
     source_neutral_landmarks: Landmarks = None,
     source_expression_landmarks: Landmarks = None,
     target_neutral_landmarks: Landmarks = None,
     global_landmarks: GlobalLandmarks = None,
-) -> dict[str, UploadFile | None]:
-    """The files of ``/api/clone`` and ``/api/compare`` by field name: three photos, their optional landmark files, the given GI."""
-    uploads: dict[str, UploadFile | None] = dict(zip(ROLES, (source_neutral, source_expression, target_neutral)))
+) -> dict[str, Any]:
+    """The inputs of ``/api/clone`` and ``/api/compare`` by field name: three photos (or the target's and a built-in
+    ``expression``), their optional landmark files, the given GI."""
+    uploads: dict[str, Any] = dict(zip(ROLES, (source_neutral, source_expression, target_neutral)))
     uploads.update(zip(LANDMARK_FIELDS, (source_neutral_landmarks, source_expression_landmarks, target_neutral_landmarks)))
-    uploads["global_landmarks"] = global_landmarks
+    uploads.update(global_landmarks=global_landmarks, expression=expression)
     return uploads
 
 
-Uploads = Annotated[dict[str, UploadFile | None], Depends(clone_uploads)]
+Uploads = Annotated[dict[str, Any], Depends(clone_uploads)]
 
 
 @router.post(

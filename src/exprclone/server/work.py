@@ -23,6 +23,7 @@ import numpy as np
 from ..errors import naming
 from ..landmarkers import DEFAULT
 from ..options import Options
+from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 
 if TYPE_CHECKING:
     from ..drive import Recording
@@ -56,14 +57,15 @@ class Asked:
 
 @dataclass(frozen=True)
 class CloneRequest:
-    """What ``POST /api/clone`` and ``/api/compare`` ask: three photos, optional landmark files, the options.
+    """What ``POST /api/clone`` and ``/api/compare`` ask: three photos (or with a built-in ``expression``, the
+    target's alone: the others None), optional landmark files, the options.
 
     ``transfer`` holds the options but the given landmarks, which come as a file
     (``global_landmarks``); ``figure`` is the compare sheet's; ``landmarker`` places the
     landmarks of photos without a landmark file.
     """
 
-    photos: tuple[Upload, Upload, Upload]
+    photos: tuple[Upload | None, Upload | None, Upload]
     landmarks: tuple[Upload | None, Upload | None, Upload | None]
     method: str = "e+md"
     lambda_k: float | str = "auto"
@@ -73,6 +75,7 @@ class CloneRequest:
     global_landmarks: Upload | None = None
     figure: str = "11"
     landmarker: str = DEFAULT
+    expression: str | None = None
 
 
 @dataclass(frozen=True)
@@ -152,18 +155,36 @@ def _landmark_file(upload: Upload, shape: tuple[int, ...]) -> np.ndarray:
 
 
 def _inputs(request: CloneRequest) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray], Options]:
-    """The three photos decoded, their landmarks (from the landmark file given, else detected), and the clone's
-    options (with the given GI read from its file)."""
-    sn, se, tn = (_image(p, request.max_pixels) for p in request.photos)
-    images = (sn, se, tn)
-    points = tuple(
-        _detected(photo, image, request.landmarker) if given is None else _landmark_file(given, image.shape)
-        for photo, image, given in zip(request.photos, images, request.landmarks)
-    )
+    """The three photos decoded (a built-in expression's loaded, :func:`exprclone.expressions.load`), their landmarks
+    (the expression's, from the landmark file given, else placed by the request's landmarker), and the clone's options
+    (with the given GI read from its file)."""
+    sent = [(photo, given) for photo, given in zip(request.photos, request.landmarks) if photo is not None]
+    faces = [_face(photo, given, request.max_pixels, request.landmarker) for photo, given in sent]
+    if request.expression is not None:
+        from ..expressions import load
+
+        chosen = load(request.expression)
+        faces = [(chosen.neutral.image, chosen.neutral.points), (chosen.expression.image, chosen.expression.points), *faces]
+    (sn, sn_points), (se, se_points), (tn, tn_points) = faces
+    images, points = (sn, se, tn), (sn_points, se_points, tn_points)
     options = request.transfer.options
     if request.global_landmarks is not None:
         options = replace(options, global_landmarks=_landmark_file(request.global_landmarks, images[2].shape))
     return images, (points[0], points[1], points[2]), options
+
+
+def _face(photo: Upload, given: Upload | None, max_pixels: int | None, landmarker: str) -> tuple[np.ndarray, np.ndarray]:
+    """An uploaded photo decoded, and its landmarks: from the landmark file given, else placed by ``landmarker`` (or remembered)."""
+    image = _image(photo, max_pixels)
+    return image, _detected(photo, image, landmarker) if given is None else _landmark_file(given, image.shape)
+
+
+def inputs_of(request: CloneRequest) -> dict[str, str]:
+    """What each photo of the request was, for its record: the form field it came in, or the built-in expression."""
+    parts = {SOURCE_NEUTRAL: "neutral", SOURCE_EXPRESSION: "expression", TARGET_NEUTRAL: ""}
+    return {
+        role: p.field if p is not None else f"expression {request.expression} ({parts[role]})" for role, p in zip(parts, request.photos)
+    }
 
 
 def clone(request: CloneRequest) -> tuple[bytes, dict[str, Any]]:
@@ -174,8 +195,9 @@ def clone(request: CloneRequest) -> tuple[bytes, dict[str, Any]]:
 
     images, points, options = _inputs(request)
     result = clone_photos(*images, request.method, request.lambda_k, points, mouth=request.mouth, options=options)
-    placed = request.landmarker if any(given is None for given in request.landmarks) else None
-    record = result_record(replace(result, landmarker=placed), {p.field: p.field for p in request.photos})
+    sent = [given for photo, given in zip(request.photos, request.landmarks) if photo is not None]
+    placed = request.landmarker if any(given is None for given in sent) else None
+    record = result_record(replace(result, landmarker=placed), inputs_of(request))
     return encode_image(result.image, ".png"), record
 
 

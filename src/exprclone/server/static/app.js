@@ -100,6 +100,33 @@ async function loadSamples(fields) {
 $("#samples").addEventListener("click", () => loadSamples(["source_neutral", "source_expression", "target_neutral"]));
 $("#video-samples").addEventListener("click", () => loadSamples(["portrait", "driving_video"]));
 
+// --- a built-in expression instead of the source's two photos ------------------------------
+const SOURCES = ["source_neutral", "source_expression"];
+
+function builtIn() {
+  return $("#source-builtin").checked;
+}
+function showSourceKind() {
+  $("#expression").disabled = !builtIn();
+  for (const field of SOURCES) document.querySelector(`.zone[data-field="${field}"]`).hidden = builtIn();
+}
+for (const radio of document.querySelectorAll('input[name="source-kind"]')) radio.addEventListener("change", showSourceKind);
+
+async function loadExpressions() {
+  try {
+    const listed = (await (await call("/api/expressions")).json()).expressions;
+    for (const { name, description } of listed) {
+      const option = new Option(name, name);
+      option.title = description;
+      $("#expression").append(option);
+    }
+  } catch (e) {
+    say(e.message);
+  }
+}
+loadExpressions();
+showSourceKind();
+
 // --- options ----------------------------------------------------------------------------
 function lambdaValue() {
   return $("#lambda-auto").checked ? "auto" : String(LAMBDAS[Number($("#lambda").value)]).replace("Infinity", "inf");
@@ -128,7 +155,8 @@ function addTransfer(form, withGiven) {
 
 function cloneForm(withMethod) {
   const form = new FormData();
-  for (const field of ["source_neutral", "source_expression", "target_neutral"]) {
+  if (builtIn()) form.append("expression", $("#expression").value);
+  for (const field of builtIn() ? ["target_neutral"] : [...SOURCES, "target_neutral"]) {
     const file = fileOf(field);
     if (!file) throw new Error(`${field}: choose a photo`);
     form.append(field, file);
@@ -160,7 +188,8 @@ $("#clone").addEventListener("click", async () => {
     const how = [o.global_warp !== "similarity" ? `global warp ${o.global_warp}` : "", o.image_warp !== "mesh" ? o.image_warp : "",
       o.strength !== 1 ? `strength ${o.strength}` : "", o.only ? `only ${o.only.join(", ")}` : "", o.retarget ? "" : "no retarget",
       record.landmarker && record.landmarker !== "dlib" ? `${record.landmarker} landmarks` : ""].filter(Boolean);
-    $("#result-caption").textContent = `${record.method}${lambda}${how.map((h) => `, ${h}`).join("")}. `;
+    const source = builtIn() ? `, expression ${$("#expression").value}` : "";
+    $("#result-caption").textContent = `${record.method}${source}${lambda}${how.map((h) => `, ${h}`).join("")}. `;
     $("#download-png").href = png;
     $("#download-json").href = URL.createObjectURL(new Blob([JSON.stringify(record, null, 1)], { type: "application/json" }));
     $("#result-box").hidden = false;
