@@ -305,7 +305,21 @@ def test_compare_with_a_built_in_expression(london, tmp_path):
 
 
 def test_evaluate_scores_an_expression_only_on_people_it_was_not_made_from(london, tmp_path):
-    p = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global", "--expression", "smile-126", "--out", tmp_path)
+    p = run(
+        "evaluate",
+        "--data",
+        london,
+        "--pairs",
+        "2",
+        "--methods",
+        "global",
+        "--expression",
+        "smile-126",
+        "--out",
+        tmp_path,
+        "--landmarker",
+        "mesh",
+    )
     assert p.returncode == 0, p.stderr
     rows = list(csv.DictReader(open(tmp_path / "pairs.csv")))
     mine = [r for r in rows if r["method"] == "global [smile-126]"]
