@@ -96,7 +96,7 @@ def clone(
         The target's landmarks; detected if not given.
     **options
         As for :func:`exprclone.clone`: ``lambda_k``, ``strength``, ``only``, ``global_warp``,
-        ``image_warp``, ``retarget``, ``mouth``, ``detector``, ``eigenfaces``.
+        ``image_warp``, ``retarget``, ``mouth``, ``landmarker``, ``eigenfaces``.
 
     Returns
     -------
