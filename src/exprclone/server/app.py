@@ -66,7 +66,8 @@ class Settings:
     video_workers : int
         Processes that run video jobs (apart from the clone workers, so that a long video does not hold up clones).
     max_live : int
-        Live sessions at once (:mod:`exprclone.server.live`; each runs in a thread of the web process).
+        Live sessions at once (:mod:`exprclone.server.live`; each renders in a process of its own,
+        :mod:`exprclone.server.rendering`).
     cors : tuple of str
         Origins allowed to call the API from other pages (none by default).
     """
@@ -93,6 +94,9 @@ class Work:
         self.pool = self._pool(settings.workers)
         self.video_pool = self._pool(settings.video_workers)
         self.live_sessions = 0
+        from .rendering import Hosts  # here: it imports the live routes, which import this module
+
+        self.live_hosts = Hosts(settings.max_live)
 
     @staticmethod
     def _pool(workers: int) -> ProcessPoolExecutor:
@@ -119,6 +123,7 @@ class Work:
         """Stop the workers (jobs not yet started are cancelled) and remove the temporary folder."""
         for pool in (self.pool, self.video_pool):
             pool.shutdown(wait=True, cancel_futures=True)
+        self.live_hosts.close()
         shutil.rmtree(self.folder, ignore_errors=True)
 
 

@@ -31,7 +31,9 @@ answered by the error alone, and the session goes on as it was.
 No backlog: the server keeps only the newest frame of a connection, and drops the
 older ones unanswered (the page sends the next frame once an answer arrives, with a
 small window). Each connection's state (tracker, filter, prepared faces) lives in a
-thread of its own, and goes when it closes; at most ``Settings.max_live`` run at once.
+process of its own (:mod:`exprclone.server.rendering`: off the web process's interpreter
+lock, so that sessions at once do not share one core), and goes when it closes; the
+process is kept for the next session; at most ``Settings.max_live`` run at once.
 """
 
 from __future__ import annotations
@@ -164,6 +166,9 @@ class Session:
         """lambda_k for the driver: 0 (GI) until "auto" is chosen (see the class's notes), else the number asked or chosen."""
         return 0.0 if self.chosen == "auto" else float(self.chosen)
 
+    def close(self) -> None:
+        """Release what the session holds: nothing here (a :class:`~exprclone.server.rendering.RemoteSession` gives its process back)."""
+
     def status(self, face: bool) -> dict[str, Any]:
         return {"type": "status", "face": face, "neutral": self.driver is not None, "lambda_k": self.chosen}
 
@@ -201,10 +206,9 @@ class Session:
         return driver
 
 
-async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, slots: Slots, max_pixels: int) -> Session:
-    """Read the start message (which takes a slot) and the portrait, within :data:`START_SECONDS`; prepare the session (in its thread)."""
-    from ..io.images import load_image
-
+async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, slots: Slots) -> Session:
+    """Read the start message (which takes a slot) and the portrait, within :data:`START_SECONDS`; prepare the session
+    (in its host process, :mod:`exprclone.server.rendering`)."""
     deadline = asyncio.get_running_loop().time() + START_SECONDS
     start = parse_message(await receive(websocket, "text", deadline))
     if start["type"] != "start":
@@ -217,10 +221,11 @@ async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, slots: Slot
     portrait = await receive(websocket, "bytes", deadline)
     options = (start.get("method", "e+md"), start.get("mouth", True), parse_lambda(str(start.get("lambda", "auto"))), size)
     loop = asyncio.get_running_loop()
-    return await loop.run_in_executor(
-        executor,
-        lambda: Session(load_image(portrait, name="portrait", max_pixels=max_pixels), *options, transfer_of(start), landmarker),
+    hosts, max_pixels = slots.work.live_hosts, slots.work.settings.max_pixels
+    session: Session = await loop.run_in_executor(
+        executor, lambda: hosts.session(portrait, max_pixels, *options, transfer_of(start), landmarker)
     )
+    return session
 
 
 def transfer_of(message: dict[str, Any]) -> Options:
@@ -238,7 +243,7 @@ async def live(websocket: WebSocket, server: Server) -> None:
     slots = Slots(server)
     executor = ThreadPoolExecutor(1, thread_name_prefix="live")
     try:
-        session = await _start(websocket, executor, slots, server.settings.max_pixels)
+        session = await _start(websocket, executor, slots)
         await websocket.send_json({"type": "ready", "width": session.portrait.shape[1], "height": session.portrait.shape[0]})
         await _follow(websocket, session, executor, server.settings.max_pixels)
     except ExprCloneError as e:
@@ -298,10 +303,11 @@ async def _follow(websocket: WebSocket, session: Session, executor: ThreadPoolEx
     finally:
         for task in tasks:
             task.cancel()
+        loop.run_in_executor(None, session.close)  # after the frame in hand, if any: its host is free for the next session
 
 
 async def _control(session: Session, executor: ThreadPoolExecutor, message: dict[str, Any]) -> None:
-    """A text message after the start: ``neutral`` or ``options`` (run in the session's thread, between frames)."""
+    """A text message after the start: ``neutral`` or ``options`` (run between frames, where the session renders)."""
     loop = asyncio.get_running_loop()
     if message["type"] == "neutral":
         await loop.run_in_executor(executor, lambda: session.recapture(now=True))
