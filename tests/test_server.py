@@ -73,6 +73,18 @@ def test_clone_answers_the_png_of_the_python_api(client, expected):
     assert np.array_equal(image, expected.image)  # lossless, the target's size, the same pixels
 
 
+@pytest.mark.parametrize(("answer", "media_type", "pillow"), [("jpeg", "image/jpeg", "JPEG"), ("webp", "image/webp", "WEBP")])
+def test_clone_as_jpeg_or_webp_is_the_same_image_smaller(client, expected, answer, media_type, pillow):
+    png = client.post("/api/clone", files=files())
+    r = client.post(f"/api/clone?format={answer}", files=files())
+    assert r.status_code == 200 and r.headers["content-type"] == media_type
+    decoded = Image.open(io.BytesIO(r.content))
+    assert decoded.format == pillow and decoded.size == expected.image.shape[1::-1]
+    error = np.abs(np.asarray(decoded.convert("RGB"), float) - expected.image)
+    assert error.mean() < 2.0  # quality 95: the same picture, a level or so off on average
+    assert len(r.content) < len(png.content) / 3
+
+
 def test_clone_as_json_with_options_and_a_landmark_file(client):
     tem = samples.template("003")
     form = {"method": "elastic", "lambda": "2", "mouth": "false"}

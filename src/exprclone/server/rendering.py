@@ -6,9 +6,9 @@ interpreter lock, and two at once would each get about half the frames they get 
 So each session's state and work live in a host process (:class:`Hosts`): the web
 process keeps a stand-in (:class:`RemoteSession`) whose calls, made from the
 connection's thread as before, send their arguments to the host and wait for the answer
-(the wait releases the lock). A host serves one session at a time; it is spawned (its
-models loaded once) when a session finds none idle, and kept for the next session when
-its own ends, so that a new session does not wait for a process to start. The protocol
+(the wait releases the lock). A host serves one session at a time; hosts are
+started with the server (each loads the models once, which takes seconds), another when
+a session finds none idle, and each is kept for the next session when its own ends. The protocol
 (:mod:`exprclone.server.live`) is the same whichever process renders.
 """
 

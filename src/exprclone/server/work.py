@@ -187,8 +187,9 @@ def inputs_of(request: CloneRequest) -> dict[str, str]:
     }
 
 
-def clone(request: CloneRequest) -> tuple[bytes, dict[str, Any]]:
-    """``POST /api/clone``: the result as PNG, and its JSON record (:func:`exprclone.io.record.result_record`)."""
+def clone(request: CloneRequest, extension: str = ".png") -> tuple[bytes, dict[str, Any]]:
+    """``POST /api/clone``: the result encoded as a file of ``extension`` (PNG by default), and its JSON record
+    (:func:`exprclone.io.record.result_record`)."""
     from ..io.images import encode_image
     from ..io.record import result_record
     from ..pipeline import clone as clone_photos
@@ -198,7 +199,7 @@ def clone(request: CloneRequest) -> tuple[bytes, dict[str, Any]]:
     sent = [given for photo, given in zip(request.photos, request.landmarks) if photo is not None]
     placed = request.landmarker if any(given is None for given in sent) else None
     record = result_record(replace(result, landmarker=placed), inputs_of(request))
-    return encode_image(result.image, ".png"), record
+    return encode_image(result.image, extension), record
 
 
 def compare(request: CloneRequest) -> bytes:
