@@ -124,9 +124,6 @@ def methods(images, lms, repeat: int) -> dict[str, float]:
 
 
 def warp_peers(images, lms, repeat: int) -> dict[str, float]:
-    from skimage.transform import PiecewiseAffineTransform
-    from skimage.transform import warp as sk_warp
-
     tn_img = images[2]
     tn = lms[2]
     mesh = warp.build_mesh(tn, tn_img.shape, DLIB68)
@@ -142,12 +139,25 @@ def warp_peers(images, lms, repeat: int) -> dict[str, float]:
         3 * repeat,
     )
 
+    rows["scikit-image PiecewiseAffineTransform + warp"] = median_ms(skimage_peer(tn_img, tn), max(1, repeat // 3))
+    return rows
+
+
+def skimage_peer(image: np.ndarray, landmarks: np.ndarray):
+    """The naive scikit-image warp of ``image``: ``PiecewiseAffineTransform`` estimated on the clone's mesh of its
+    landmarks (with forehead and border points), moved a few pixels, and ``skimage.transform.warp`` of the whole photo
+    (bilinear); a function that runs it once."""
+    from skimage.transform import PiecewiseAffineTransform
+    from skimage.transform import warp as sk_warp
+
+    mesh = warp.build_mesh(landmarks, image.shape, DLIB68)
+    dst = mesh.control_points(landmarks + 4 * np.stack([np.sin(landmarks[:, 1] / 60), np.cos(landmarks[:, 0] / 50)], 1))
+
     def skimage_warp():
         t = PiecewiseAffineTransform.from_estimate(dst, mesh.points)  # output -> input, as skimage's warp expects
-        return sk_warp(tn_img, t, preserve_range=True).astype(np.uint8)
+        return sk_warp(image, t, preserve_range=True).astype(np.uint8)
 
-    rows["scikit-image PiecewiseAffineTransform + warp"] = median_ms(skimage_warp, max(1, repeat // 3))
-    return rows
+    return skimage_warp
 
 
 def tps_vs_mesh(images, lms, repeat: int) -> dict[str, float]:

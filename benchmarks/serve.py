@@ -13,7 +13,12 @@ re-encoded as JPEG at quality 95):
   portrait cloned with many expressions).
 
 It prints p50 and p95 latency, throughput and errors, and the server's memory (its own
-process and its workers, resident) before and after 200 more requests.
+process and its workers, resident) before and after 200 more requests. Beside the one-client
+run at 1350 pixels, the peer is measured in turn with the requests (so that both see the same
+load): the naive scikit-image warp of the same target photo, ``PiecewiseAffineTransform``
+estimated on the clone's mesh (landmarks, forehead and border points) and
+``skimage.transform.warp`` of the whole photo (bilinear), as :mod:`run` measures it; the ratio
+of the server's p50 to the peer's median is printed.
 """
 
 from __future__ import annotations
@@ -92,6 +97,27 @@ def run(url: str, files: list[dict], requests: int, clients: int) -> tuple[list[
     return [ms for ms, _ in done], sum(not ok for _, ok in done), wall
 
 
+def with_peer(url: str, files: list[dict], requests: int, data: Path) -> tuple[list[float], int, float, list[float]]:
+    """One client's requests, each followed by the peer (:func:`run.skimage_peer` on the first pair's target photo):
+    latencies (ms), errors, the requests' wall time (s), the peer's times (ms)."""
+    from run import skimage_peer
+
+    from exprclone.io.images import load_image
+    from exprclone.models import default_detector
+
+    target = load_image(files[0]["target_neutral"][1])
+    peer_warp = skimage_peer(target, default_detector().detect(target))
+    latencies, peer, errors, wall = [], [], 0, 0.0
+    for k in range(requests):
+        ms, bad, seconds = run(url, files[k % len(files) :], 1, 1)
+        latencies += ms
+        errors, wall = errors + bad, wall + seconds
+        start = time.perf_counter()
+        peer_warp()
+        peer.append(1000 * (time.perf_counter() - start))
+    return latencies, errors, wall, peer
+
+
 def line(name: str, latencies: list[float], errors: int, wall: float) -> str:
     p50, p95 = np.percentile(latencies, [50, 95])
     return f"  {name:34s} p50 {p50:6.0f} ms  p95 {p95:6.0f} ms  {len(latencies) / wall:5.2f} requests/s  errors {errors}"
@@ -120,7 +146,12 @@ def main() -> None:
             print(line("first sight, 1 client", *run(url, files, len(files), 1)))
             throughput = {}
             for clients in CLIENTS:
-                latencies, errors, wall = run(url, files, args.requests, clients)
+                if clients == 1 and size == 1350:
+                    latencies, errors, wall, peer = with_peer(url, files, args.requests, args.data)
+                    print(f"  peer, naive scikit-image warp of the target photo: median {np.median(peer):.0f} ms")
+                    print(f"  p50 of one client / the peer: {np.percentile(latencies, 50) / np.median(peer):.2f}x")
+                else:
+                    latencies, errors, wall = run(url, files, args.requests, clients)
                 throughput[clients] = len(latencies) / wall
                 print(line(f"seen before, {clients} client{'s' * (clients > 1)}", latencies, errors, wall))
             print(f"  throughput with 4 clients / with 1: {throughput[4] / throughput[1]:.2f}x")
