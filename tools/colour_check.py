@@ -1,8 +1,9 @@
 """Colour cast of the pasted mouth interior (and of the ERI), on GRID clips and on London stills.
 
-    python tools/colour_check.py [--data ../shared/data] [--portraits 003 025 005 064] [--size 512]
-                                 [--clips lbax4n ...] [--stills 60] [--cast R G B] [--ref REV]
-    python tools/colour_check.py --strip OUT.jpg [--ref REV] [--strip-pairs lbax4n:003 lrwp9a:025]
+    python tools/colour_check.py [--data ../shared/data] [--portraits 083 112 ...] [--size 512]
+                                 [--clips lbax4n ...] [--stills 60] [--cast R G B] [--ref REV] [--jobs 2]
+    python tools/colour_check.py --lightness [--data ../shared/data]
+    python tools/colour_check.py --strip OUT.jpg [--ref REV] [--strip-pairs lbax4n:003 lrwp9a:025] [--crop 96]
     python tools/colour_check.py --spread [--data ../shared/data]
 
 The measure. The *relation* of a face is the CIELAB (a*, b*) of the brightest 30% of
@@ -12,10 +13,16 @@ driver's relation, whatever the two lights; pasting the driver's interior with t
 driver's light does not. For every open-mouth frame (the paste's weight at least
 :data:`OPEN_WEIGHT`) the distance between the driver's relation (driving frame, its
 landmarks) and the output's (output frame, its final landmarks) is taken; each clip and
-portrait reports its mean over those frames.
+portrait reports its mean over those frames, and the summary the mean and the worst case.
 
 - Videos: every GRID clip drives each portrait (scaled to ``--size``, neutral frame
-  "closed", e+md). Each row also gives the ERI check: the shift of the (a*, b*) of the
+  "closed", e+md). The default portraits (:data:`PORTRAITS`) are the palest and the
+  darkest of the 72 London people by the CIELAB L* of their cheeks (``--lightness``
+  prints the ranking), and 141, the pale young man with fair hair of issue 24. Each row
+  gives the flicker: the mean change from one open-mouth frame to the next of the
+  pasted interior's mean (a*, b*) (where the paste is whole), beside the same change of
+  the driver's interior (inside its inner lips), which moves as the mouth shows more
+  or less teeth, tongue and cavity. Each row also gives the ERI check: the shift of the (a*, b*) of the
   output's cheeks and nasolabial folds from the portrait's own (mean over all frames), and
   for scale the driver's cast, the distance between the (a*, b*) of the driver's cheeks
   and of the portrait's.
@@ -35,6 +42,15 @@ undoing the cast exactly would score (the uncast clone against the cast driver: 
 relation in CIELAB is not kept by a change of light, so a strong cast moves it even
 when nothing else changes), and how much the paste changed.
 
+``--own-teeth`` prints, for scale, what each portrait person's own real smile (teeth
+shown, in the studio's white light) would score against each clip: the measure is not
+kept by a change of light (the CIELAB differences of an orange-lit face are stretched),
+and real teeth in white light need not score low against an orange-lit driver.
+
+``--lightness`` prints the 72 London people ordered by the CIELAB L* of their cheeks
+(the median over the skin cue's pixels, :func:`exprclone.illuminant.skin_pixels`, of
+the neutral photo), palest first.
+
 ``--spread`` prints the between-people spread of the cues to the light
 (:mod:`exprclone.illuminant`) on the London neutral photos, one studio and one light:
 ``SKIN_SPREAD`` and ``SCLERA_SPREAD``.
@@ -52,6 +68,8 @@ exprclone is imported inside the functions, so that ``--ref`` imports the tree i
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
+import contextlib
 import os
 import subprocess
 import sys
@@ -78,9 +96,10 @@ TEETH_SHOWN = 0.004
 STRIP_ROWS, STRIP_PAIRS, CROP = 5, ("lbax4n:003", "lrwp9a:025"), 96
 #: fewest frames between two frames of a strip.
 STRIP_SPACING = 4
-#: the default portraits, four skin tones: 003 (white, pale), 025 (black), 005 (East
-#: Asian), 064 (West Asian).
-PORTRAITS = ("003", "025", "005", "064")
+#: the default portraits: the three palest London people by ``--lightness`` (L* 79.3,
+#: 77.0, 76.4), the three darkest (29.9, 34.8, 36.2), and 141, the pale young man with
+#: fair hair of issue 24 (L* 72.2).
+PORTRAITS = ("083", "112", "124", "137", "096", "062", "141")
 
 
 def lab_ab(pixels: np.ndarray) -> np.ndarray:
@@ -162,26 +181,56 @@ def pasted(result) -> bool:
     return result.mouth_mask is not None and float(result.mouth_mask.max()) >= OPEN_WEIGHT
 
 
+def inner_ab(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
+    """Mean (a*, b*) of all the pixels inside the inner lips."""
+    from exprclone.layout import DLIB68
+
+    inner = np.zeros(image.shape[:2], np.uint8)
+    cv2.fillPoly(inner, [np.round(landmarks[list(DLIB68.mouth_inner)]).astype(np.int32)], 1)
+    return lab_ab(image[inner > 0]).mean(0)
+
+
+def steps(colours: list[np.ndarray | None]) -> float:
+    """Mean distance between consecutive colours, where both are given (None: a closed mouth)."""
+    moves = [np.linalg.norm(b - a) for a, b in zip(colours, colours[1:]) if a is not None and b is not None]
+    return float(np.mean(moves)) if moves else np.nan
+
+
 def drive(clip: Path, portrait: np.ndarray, portrait_points: np.ndarray) -> dict:
-    """One clip driving one portrait: the relation distance, the ERI shift and the driver's cast."""
+    """One clip driving one portrait: the relation distance, the flicker, the ERI shift and the driver's cast."""
     points_of, frames = driven(portrait, portrait_points, clip)
     target = regions(portrait.shape, portrait_points)
     target_ab = {k: lab_ab(portrait[m]).mean(0) for k, m in target.items()}
-    distances, shifts, casts = [], [], []
+    distances, shifts, casts, paste, source = [], [], [], [], []
     for f in frames:
         final, points = f.result.landmarks["final"], points_of[f.index]
         out = regions(f.image.shape, final)
         shifts.append(np.mean([np.linalg.norm(lab_ab(f.image[out[k]]).mean(0) - target_ab[k]) for k in out]))
         casts.append(np.linalg.norm(lab_ab(f.driving[regions(f.driving.shape, points)["cheeks"]]).mean(0) - target_ab["cheeks"]))
-        if pasted(f.result):
+        opened = pasted(f.result)
+        if opened:
             distances.append(np.linalg.norm(relation(f.driving, points) - relation(f.image, final)))
+        whole = f.result.mouth_mask >= WHOLE * f.result.mouth_mask.max() if opened else None
+        paste.append(lab_ab(f.image[whole]).mean(0) if opened else None)
+        source.append(inner_ab(f.driving, points) if opened else None)
     return {
         "distance": np.mean(distances) if distances else np.nan,
         "open": len(distances),
         "frames": len(shifts),
+        "flicker": steps(paste),
+        "driver_flicker": steps(source),
         "eri_shift": float(np.mean(shifts)),
         "cast": float(np.mean(casts)),
     }
+
+
+def drive_case(case: tuple[Path, str, Path, int]) -> dict:
+    """:func:`drive` on ``(data, portrait id, clip, size)``: the portrait loaded and its landmarks found here (a task of ``--jobs``)."""
+    from exprclone.models import default_detector
+
+    data, face, clip, size = case
+    portrait = resize_portrait(load_image(data / "london/neutral_front" / f"{face}_03.jpg"), size)
+    return dict(drive(clip, portrait, default_detector().detect(portrait)), clip=clip.stem, portrait=face)
 
 
 def mouth_crop(image: np.ndarray, landmarks: np.ndarray, size: int = CROP) -> np.ndarray:
@@ -196,7 +245,7 @@ def mouth_crop(image: np.ndarray, landmarks: np.ndarray, size: int = CROP) -> np
     return cv2.warpAffine(image, m, (size, size), flags=cv2.INTER_AREA, borderMode=cv2.BORDER_REPLICATE)
 
 
-def strip_crops(data: Path, pairs: list[str], size: int) -> np.ndarray:
+def strip_crops(data: Path, pairs: list[str], size: int, crop: int = CROP) -> np.ndarray:
     """Mouth crops (driver, output) of :data:`STRIP_ROWS` frames of each ``CLIP:PORTRAIT`` pair, ``(rows, pairs, 2, h, w, 3)``.
 
     The frames are those whose driving mouth is the most open (``mouth.opening``), at
@@ -217,7 +266,7 @@ def strip_crops(data: Path, pairs: list[str], size: int) -> np.ndarray:
                 chosen.append(int(i))
         columns.append(
             [
-                (mouth_crop(f.driving, points_of[f.index]), mouth_crop(f.image, f.result.landmarks["final"]))
+                (mouth_crop(f.driving, points_of[f.index], crop), mouth_crop(f.image, f.result.landmarks["final"], crop))
                 for f in frames
                 if f.index in chosen
             ]
@@ -305,10 +354,80 @@ def spread(data: Path) -> None:
         print(f"{name} = ({brightness[:, i].std():.3f}, {np.sqrt(colour[:, i].var(0).sum() / 2):.3f})  # {len(colours)} photos")
 
 
+def skin_lightness(data: Path) -> list[tuple[str, float]]:
+    """The London people and the CIELAB L* of their cheeks on their neutral photos (median over the skin cue's pixels), palest first."""
+    from exprclone import illuminant
+    from exprclone.layout import DLIB68
+    from exprclone.models import default_detector
+
+    detector, rows = default_detector(), []
+    for path in sorted((data / "london" / "neutral_front").glob("*_03.jpg")):
+        image = load_image(path)
+        pixels = illuminant.skin_pixels(image, detector.detect(image), DLIB68)
+        lab = cv2.cvtColor(pixels.reshape(-1, 1, 3).astype(np.float32) / 255.0, cv2.COLOR_RGB2LAB)
+        rows.append((path.name[:3], float(np.median(lab[..., 0]))))
+    return sorted(rows, key=lambda row: -row[1])
+
+
+def own_teeth(data: Path, portraits: list[str], clips: list[Path], size: int) -> None:
+    """``--own-teeth``: the distance each portrait's own real smile would score against each clip (its teeth, in its light).
+
+    The relation of the portrait person's London smile (scaled as the portraits are),
+    against the driver's relation on the frames whose mouth is fully open
+    (``mouth.OPENING``); only for people whose smile shows teeth (:data:`TEETH_SHOWN`).
+    """
+    from exprclone import lips, mouth, tracking
+    from exprclone.io.video import probe, read_frames
+    from exprclone.layout import DLIB68
+    from exprclone.models import default_detector
+
+    detector, own = default_detector(), {}
+    for face in portraits:
+        smile = resize_portrait(load_image(data / "london/smiling_front" / f"{face}_08.jpg"), size)
+        points = lips.uncross(detector.detect(smile), DLIB68)
+        if mouth.interior(smile, points, DLIB68)[0].sum() >= TEETH_SHOWN * mouth.mouth_width(points, DLIB68) ** 2:
+            own[face] = relation(smile, points)
+    print(f"portraits whose smile shows teeth: {' '.join(own)}")
+    rows = []
+    for clip in clips:
+        points = tracking.smooth(tracking.track(read_frames(clip), detector, clip.name).points, float(probe(clip).fps))
+        driver = [relation(f, p) for f, p in zip(read_frames(clip), points) if mouth.opening(p, DLIB68) >= mouth.OPENING[1]]
+        rows.append([np.mean([np.linalg.norm(d - r) for d in driver]) for r in own.values()])
+        print(f"{clip.stem} | {' | '.join(f'{v:.1f}' for v in rows[-1])}", flush=True)
+    scores = np.array(rows)
+    print(f"own real teeth: mean {scores.mean():.1f}, worst {scores.max():.1f}; at most 8 in {np.sum(scores <= 8)} of {scores.size}")
+
+
+def report_videos(cases: list[tuple[Path, str, Path, int]], jobs: int) -> None:
+    """Drive every case (:func:`drive_case`), on ``jobs`` processes; print a row per case, then the mean and the worst case."""
+    if not cases:
+        return
+    print("clip | portrait | open frames | relation distance | flicker (driver's) | ERI shift (cheeks, folds) | driver's cast")
+    print("---|---|---|---|---|---|---")
+    rows = []
+    with concurrent.futures.ProcessPoolExecutor(jobs) if jobs > 1 else contextlib.nullcontext() as pool:
+        for row in (pool.map if pool else map)(drive_case, cases):
+            rows.append(row)
+            cells = [row["clip"], row["portrait"], f"{row['open']}/{row['frames']}", f"{row['distance']:.1f}"]
+            cells += [f"{row['flicker']:.2f} ({row['driver_flicker']:.2f})", f"{row['eri_shift']:.1f}", f"{row['cast']:.1f}"]
+            print(" | ".join(cells), flush=True)
+    d = np.array([r["distance"] for r in rows])
+    worst = rows[int(np.nanargmax(d))]
+    print(f"\nvideos: relation distance mean {np.nanmean(d):.1f}, ", end="")
+    print(f"worst {worst['distance']:.1f} ({worst['clip']} on {worst['portrait']})", end="")
+    print(f"; at most 8 in {np.sum(d <= 8)} of {np.sum(np.isfinite(d))}")
+    flicker = np.array([[r["flicker"], r["driver_flicker"]] for r in rows])
+    print(f"flicker: the paste's mean (a*, b*) moves {np.nanmean(flicker[:, 0]):.2f} a frame ", end="")
+    print(f"(worst case {np.nanmax(flicker[:, 0]):.2f}), ", end="")
+    print(f"the driver's interior {np.nanmean(flicker[:, 1]):.2f}")
+    shift = [r["eri_shift"] for r in rows]
+    print(f"ERI shift mean {np.mean(shift):.2f}, max {np.max(shift):.2f}")
+
+
 def report_stills(s: dict, cast: list[float] | None) -> None:
     """Print the figures of :func:`stills`."""
     d, b = s["distances"], s["brightness"]
-    print(f"stills: relation distance mean {d.mean():.1f} (median {np.median(d):.1f}) on {len(d)} pairs")
+    print(f"stills: relation distance mean {d.mean():.1f} (median {np.median(d):.1f}, worst {d.max():.1f}) on {len(d)} pairs")
     print(f"stills: teeth log brightness error {np.sqrt(np.mean(b**2)):.3f} rms, mean {b.mean():+.3f}, on {len(b)} pairs")
     if cast:
         c, perfect, changes = s["cast_distances"], s["perfect_distances"], s["changes"]
@@ -329,18 +448,18 @@ def run_at(ref: str, arguments: list[str]) -> int:
 
 def write_strip(args: argparse.Namespace) -> int:
     """``--strip``: the driving frames' mouths, the outputs of ``--ref`` (if given) and of the working tree, side by side."""
-    after = strip_crops(args.data, args.strip_pairs, args.size)
+    after = strip_crops(args.data, args.strip_pairs, args.size, args.crop)
     columns = [after[:, :, 0]]
     if args.ref:
         with tempfile.TemporaryDirectory() as tmp:
             before = Path(tmp) / "before.npy"
-            common = ["--data", str(args.data), "--size", str(args.size), "--strip-pairs", *args.strip_pairs]
+            common = ["--data", str(args.data), "--size", str(args.size), "--crop", str(args.crop), "--strip-pairs", *args.strip_pairs]
             if run_at(args.ref, ["--crops-to", str(before), *common]):
                 return 1
             columns.append(np.load(before)[:, :, 1])
     columns.append(after[:, :, 1])
     rows, pairs = after.shape[:2]
-    gap = np.full((CROP, CROP // 8, 3), 255, np.uint8)
+    gap = np.full((args.crop, args.crop // 8, 3), 255, np.uint8)
     strip = np.vstack(
         [np.hstack([np.hstack([c[r, p] for c in columns] + [gap]) for p in range(pairs)])[:, : -gap.shape[1]] for r in range(rows)]
     )
@@ -360,12 +479,16 @@ def main() -> int:
     )
     parser.add_argument("--ref", help="a git commit to measure instead of the working tree")
     parser.add_argument("--spread", action="store_true", help="print the spread of the cues to the light on the London Set, and stop")
+    parser.add_argument("--lightness", action="store_true", help="print the London people by the L* of their cheeks, and stop")
+    parser.add_argument("--own-teeth", action="store_true", help="print what the portraits' own real smiles would score, and stop")
+    parser.add_argument("--jobs", type=int, default=1, help="processes for the videos (default 1)")
     parser.add_argument("--strip", help="write driver | REV's output | output mouth crops of the --strip-pairs here, and stop")
     parser.add_argument("--strip-pairs", nargs="*", default=list(STRIP_PAIRS), metavar="CLIP:PORTRAIT")
+    parser.add_argument("--crop", type=int, default=CROP, help="the strip's mouth crops, in pixels")
     parser.add_argument("--crops-to", help=argparse.SUPPRESS)  # internal: --strip's crops, as .npy, by the code of --ref
     args = parser.parse_args()
     if args.crops_to:
-        np.save(args.crops_to, strip_crops(args.data, args.strip_pairs, args.size))
+        np.save(args.crops_to, strip_crops(args.data, args.strip_pairs, args.size, args.crop))
         return 0
     if args.strip:
         return write_strip(args)
@@ -375,34 +498,15 @@ def main() -> int:
     if args.spread:
         spread(args.data)
         return 0
-    from exprclone.models import default_detector
-
     clips = [args.data / "grid" / f"{c}.mpg" for c in args.clips] if args.clips else sorted((args.data / "grid").glob("*.mpg"))
-    detector, rows = default_detector(), []
-    if clips and args.portraits:
-        print("clip | portrait | open frames | relation distance | ERI shift (cheeks, folds) | driver's cast")
-        print("---|---|---|---|---|---")
-    for face in args.portraits:
-        portrait = resize_portrait(load_image(args.data / "london/neutral_front" / f"{face}_03.jpg"), args.size)
-        points = detector.detect(portrait)
-        for clip in clips:
-            row = drive(clip, portrait, points)
-            rows.append(row)
-            cells = [
-                clip.stem,
-                face,
-                f"{row['open']}/{row['frames']}",
-                f"{row['distance']:.1f}",
-                f"{row['eri_shift']:.1f}",
-                f"{row['cast']:.1f}",
-            ]
-            print(" | ".join(cells), flush=True)
-    if rows:
-        d = np.array([r["distance"] for r in rows])
-        shift = [r["eri_shift"] for r in rows]
-        print(f"\nvideos: relation distance mean {np.nanmean(d):.1f}, max {np.nanmax(d):.1f}", end="")
-        print(f"; at most 8 in {np.sum(d <= 8)} of {np.sum(np.isfinite(d))}")
-        print(f"ERI shift mean {np.mean(shift):.2f}, max {np.max(shift):.2f}")
+    if args.own_teeth:
+        own_teeth(args.data, args.portraits, clips, args.size)
+        return 0
+    if args.lightness:
+        for face, lightness in skin_lightness(args.data):
+            print(f"{face} {lightness:.1f}")
+        return 0
+    report_videos([(args.data, face, clip, args.size) for face in args.portraits for clip in clips], args.jobs)
     if args.stills:
         report_stills(stills(args.data, args.stills, None if args.cast is None else np.array(args.cast)), args.cast)
     return 0

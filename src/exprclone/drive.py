@@ -24,6 +24,7 @@ starts a new pass over the frames.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -31,7 +32,7 @@ from typing import Any
 import cv2
 import numpy as np
 
-from . import geometry, global_warp, mouth, tracking
+from . import geometry, global_warp, lips, mouth, mouth_tone, teeth, tracking
 from .checks import check_image, check_lambda, check_options, options_from
 from .cloner import Cloner, CloneResult
 from .eigenface import Eigenfaces
@@ -46,6 +47,8 @@ from .roles import SOURCE_NEUTRAL, TARGET_NEUTRAL
 LAMBDA_FRAMES = 5
 #: the frames that choose lambda_k are at least this many seconds apart.
 LAMBDA_SPACING = 0.5
+#: the most open frames (as far apart) on which the source's teeth and cavity are read once for the whole video.
+TEETH_FRAMES = 5
 
 
 @dataclass
@@ -235,6 +238,24 @@ def neutral_index(track: tracking.Track, points: np.ndarray, neutral_frame: int 
     return index
 
 
+def open_frames_of(points: np.ndarray, usable: np.ndarray, fps: float, layout: Layout) -> list[int]:
+    """The :data:`TEETH_FRAMES` usable frames whose mouth is the most open (:func:`mouth.opening`, at least
+    ``mouth.OPENING[0]``), :data:`LAMBDA_SPACING` seconds apart."""
+    opened = np.array([mouth.opening(p, layout) for p in points])
+    return strongest_frames(opened, usable & (opened >= mouth.OPENING[0]), TEETH_FRAMES, max(1, round(LAMBDA_SPACING * fps)))
+
+
+def read_interior(cloner: Cloner, frames: Sequence[np.ndarray], points: Sequence[np.ndarray]) -> teeth.Interior | None:
+    """The source's teeth and cavity (:func:`mouth.interior`, in the target's light) pooled over ``frames``; None without frames."""
+    reference, layout = cloner.mouth_reference, cloner.layout
+    if not len(frames):
+        return None
+    points = [lips.uncross(p, layout) for p in points]
+    parts = [mouth.interior(f, p, layout, mouth_tone.tone_gain(f, p, reference, layout)) for f, p in zip(frames, points)]
+    pixels = (np.concatenate([f[m[0]] for f, m in zip(frames, parts)]), np.concatenate([f[m[1]] for f, m in zip(frames, parts)]))
+    return teeth.Interior.read(pixels, float(np.median([mouth.mouth_width(p, layout) for p in points])))
+
+
 def frames_at(frames: Iterable[np.ndarray], indices: list[int]) -> list[np.ndarray]:
     """The frames at ``indices``, in that order, taken from one pass (stopped as soon as all are found)."""
     wanted, found = set(indices), {}
@@ -373,11 +394,16 @@ def prepare(
     if elastic and lambda_k == "auto" and not lambda_per_frame:
         strength = expression_strength(neutral_points, points, layout)
         chosen = strongest_frames(strength, track.found, LAMBDA_FRAMES, max(1, round(LAMBDA_SPACING * fps)))
-    fetched = frames_at(open_frames(), ([] if index is None else [index]) + chosen)
+    opened = open_frames_of(points, track.found, fps, layout) if mouth else []
+    fetched = frames_at(open_frames(), ([] if index is None else [index]) + opened + chosen)
     if index is not None:
         neutral_image = fetched.pop(0)
     target_points = detector.detect(target, TARGET_NEUTRAL) if target_points is None else target_points
     cloner = Cloner(neutral_image, neutral_points, target, target_points, eigenfaces=eigenfaces, layout=layout, options=asked)
+    if opened:  # the source's teeth and cavity read once: the paste's colour the same in every frame
+        source_interior = read_interior(cloner, fetched[: len(opened)], [points[i] for i in opened])
+        cloner.mouth_reference = dataclasses.replace(cloner.mouth_reference, source_interior=source_interior)
+    fetched = fetched[len(opened) :]
     if chosen:
         lambda_k = choose_lambda(cloner, fetched, [points[i] for i in chosen])
     return Recording(Driver(cloner, method, lambda_k, head_motion=head_motion, mouth=mouth), track, points, index, chosen)

@@ -254,7 +254,7 @@ def gain(target: Light, source: Light) -> np.ndarray:
 
     Each cue's log ratio, target over source, split into brightness and colour
     (:func:`split`), weighted by the inverse of the sum of its variances on the two
-    photos; brightness and colour averaged apart, then joined.
+    photos; brightness and colour averaged apart, then joined (:func:`log_gain`).
 
     Parameters
     ----------
@@ -274,12 +274,47 @@ def gain(target: Light, source: Light) -> np.ndarray:
     >>> gain(face, orange).round(3).tolist()
     [1.0, 1.25, 2.0]
     """
+    return np.exp(log_gain(target, source)[0])
+
+
+def log_gain(target: Light, source: Light) -> tuple[np.ndarray, float]:
+    """The log of :func:`gain`, and the variance of its colour (per degree of freedom).
+
+    The variance is that of an inverse-variance mean, ``1 / sum(weights)``, times the
+    cues' disagreement when they disagree more than their variances allow (the Birge
+    ratio: their weighted squared spread about the mean over its degrees of freedom,
+    when above 1): two cues that tell different lights say that the light is not well
+    read, whichever is wrong.
+
+    Parameters
+    ----------
+    target, source : Light
+
+    Returns
+    -------
+    log_gain : ndarray of shape (3,)
+        Zeros when no cue shows on both photos.
+    variance : float
+        Infinite when no cue's colour shows on both photos.
+
+    Examples
+    --------
+    >>> face = Light(np.log([[150.0, 110.0, 90.0], [180.0, 170.0, 170.0]]), np.full((2, 2), 0.01))
+    >>> [round(v, 3) for v in log_gain(face, face)[1:]]
+    [0.01]
+    >>> skin_orange = Light(face.log_colour + np.log([[1.0, 0.8, 0.5], [1.0, 1.0, 1.0]]), face.variance)
+    >>> round(log_gain(face, skin_orange)[1], 3)  # the eye whites say white, the skin orange
+    0.031
+    """
     weight = 1.0 / (target.variance + source.variance)
     brightness, colour = split(target.log_colour - source.log_colour)
     total = weight.sum(0)
     log_gain = np.zeros(3)
     if total[0] > 0:
         log_gain += (weight[:, 0] * brightness).sum() / total[0]
-    if total[1] > 0:
-        log_gain += (weight[:, 1:] * colour).sum(0) / total[1]
-    return np.exp(log_gain)
+    if total[1] == 0:
+        return log_gain, np.inf
+    mean = (weight[:, 1:] * colour).sum(0) / total[1]
+    shown = weight[:, 1] > 0
+    birge = (weight[:, 1] * np.square(colour - mean).sum(1))[shown].sum() / (2 * max(int(shown.sum()) - 1, 1))
+    return log_gain + mean, float(max(birge, 1.0) / total[1])

@@ -11,7 +11,8 @@ dark cavity).
 1. warped from the source's inner-lip polygon to the target's (a piecewise-affine warp
    over the lips and the polygon's centre);
 2. matched to the target photo: its colour mapped from the source's light to the
-   target's (:func:`exprclone.mouth_tone.tone_gain`), then blurred to the target
+   target's (:func:`exprclone.mouth_tone.tone_gain`), pulled toward real teeth's and
+   cavity's where that light is doubtful (:func:`exprclone.teeth.recolour`), then blurred to the target
    photo's sharpness and given the target photo's noise (:func:`match_grain`), so
    teeth from a crisp photo do not stand out in a soft or grainy one;
 3. blended inside the inner-lip polygon with a feathered edge that ends at the lip line,
@@ -24,11 +25,11 @@ import cv2
 import numpy as np
 from scipy.spatial import Delaunay
 
-from . import geometry, raster, warp
+from . import geometry, raster, teeth, warp
 from .grain import blur_sigma, noise_sigma
 from .layout import Layout
 from .mouth import INTERIOR, OPENING, fade_in, interior, mouth_width, opening
-from .mouth_tone import Reference, below_white, face_box, tone_gain
+from .mouth_tone import Reference, below_white, face_box, source_light, tone_gain
 
 #: feather of the blend, in mouth widths.
 FEATHER = 0.015
@@ -121,7 +122,8 @@ def fill_interior(
     if weight == 0:
         return image, None
     gain = tone_gain(source, source_landmarks, reference, layout)
-    shown = sum(int(part.sum()) for part in interior(source, source_landmarks, layout, gain))
+    parts = interior(source, source_landmarks, layout, gain)
+    shown = sum(int(part.sum()) for part in parts)
     weight *= fade_in(shown / mouth_width(source_landmarks, layout) ** 2, INTERIOR)
     if weight == 0:
         return image, None
@@ -137,7 +139,8 @@ def fill_interior(
     polygon = raster.fill_polygon(np.zeros(patch.shape[:2], np.float32), local[len(layout.mouth_outer) : len(mouth)], 1.0)
 
     gain = below_white(gain, patch[polygon > 0])
-    patch *= gain
+    seen = reference.source_interior or teeth.Interior.read((source[parts[0]], source[parts[1]]), mouth_width(source_landmarks, layout))
+    patch = teeth.recolour(patch, np.log(gain), seen, reference.light, source_light(source, source_landmarks, reference, layout))
     scale = geometry.interocular(final, layout) / geometry.interocular(source_landmarks, layout)
     patch = match_grain(patch, source, source_landmarks, reference, scale, gain)
 

@@ -8,7 +8,10 @@ reliable it is), so that the photo's exposure and colour cast carry over but not
 source's light: teeth filmed under a warm lamp are not pasted orange into a white-lit
 portrait. The source's light is read on its neutral photo (a smile often squints) and
 carried over to the expression by the change of exposure. Never so bright that teeth
-the source photo shows unclipped turn flat white.
+the source photo shows unclipped turn flat white. Where the source's light is doubtful
+(a small, compressed, strongly lit video), the colour is pulled toward that of real
+teeth and mouth cavities in the target's light (:func:`exprclone.teeth.recolour`; the
+source's teeth and cavity read once per driving video, :attr:`Reference.source_interior`).
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from . import geometry, illuminant
+from . import geometry, illuminant, teeth
 from .grain import blur_sigma, noise_sigma
 from .layout import Layout
 
@@ -51,6 +54,10 @@ class Reference:
     source_face : ndarray of shape (3,) or None
         That photo's face colour (:func:`face_colour`), to carry its light over to an expression photo taken at
         another exposure.
+    source_interior : teeth.Interior or None
+        The source's teeth and cavity read once for every expression (a driving video's
+        most open frames), for the pull of their colour toward real ones'
+        (:func:`exprclone.teeth.recolour`); None: read on each expression photo.
     """
 
     light: illuminant.Light
@@ -58,6 +65,7 @@ class Reference:
     noise: np.ndarray
     source_light: illuminant.Light | None = None
     source_face: np.ndarray | None = None
+    source_interior: teeth.Interior | None = None
 
     @classmethod
     def measure(
@@ -94,11 +102,9 @@ def tone_gain(
     whites behind lashes (on the London Set they read 5% darker in the smile than in the
     neutral photo at the median, 19% at the 5th percentile, 55% for one person), so when
     the reference holds the source's neutral photo its light is read there and carried
-    over to the expression photo by the change of exposure: the ratio of the two
-    photos' face colours (:func:`face_colour`;
-    one person's face, so what differs between them is the exposure), as a brightness
-    (the mean of the channels' log ratios). The colour of the light is read once, on
-    the neutral face: in a video, the paste's colour is the same in every frame.
+    over to the expression photo by the change of exposure (:func:`source_light`). The
+    colour of the light is read once, on the neutral face: in a video, the paste's
+    colour is the same in every frame.
 
     Parameters
     ----------
@@ -114,14 +120,23 @@ def tone_gain(
     -------
     ndarray of shape (3,)
     """
-    if reference.source_light is None or reference.source_face is None:  # measured together, or neither
-        light = illuminant.Light.measure(source, source_landmarks, layout)
-    else:
-        face = face_colour(source, source_landmarks)
-        exposure = np.log(np.maximum(face, 1.0) / np.maximum(reference.source_face, 1.0)).mean()
-        light = reference.source_light.scaled(np.exp(exposure))
-    gain = np.clip(illuminant.gain(reference.light, light), *GAIN_RANGE)
+    gain = np.clip(illuminant.gain(reference.light, source_light(source, source_landmarks, reference, layout)), *GAIN_RANGE)
     return gain if pasted is None else below_white(gain, pasted)
+
+
+def source_light(source: np.ndarray, source_landmarks: np.ndarray, reference: Reference, layout: Layout) -> illuminant.Light:
+    """The cues to the light on the source's expression photo.
+
+    Its own; or, when the reference holds the source's neutral photo, that photo's
+    carried over by the change of exposure: the ratio of the two photos' face colours
+    (:func:`face_colour`; one person's face, so what differs between them is the
+    exposure), as a brightness (the mean of the channels' log ratios).
+    """
+    if reference.source_light is None or reference.source_face is None:  # measured together, or neither
+        return illuminant.Light.measure(source, source_landmarks, layout)
+    face = face_colour(source, source_landmarks)
+    exposure = np.log(np.maximum(face, 1.0) / np.maximum(reference.source_face, 1.0)).mean()
+    return reference.source_light.scaled(np.exp(exposure))
 
 
 def below_white(gain: np.ndarray, pasted: np.ndarray) -> np.ndarray:
