@@ -97,9 +97,16 @@ STRIP_ROWS, STRIP_PAIRS, CROP = 5, ("lbax4n:003", "lrwp9a:025"), 96
 #: fewest frames between two frames of a strip.
 STRIP_SPACING = 4
 #: the default portraits: the three palest London people by ``--lightness`` (L* 79.3,
-#: 77.0, 76.4), the three darkest (29.9, 34.8, 36.2), and 141, the pale young man with
-#: fair hair of issue 24 (L* 72.2).
-PORTRAITS = ("083", "112", "124", "137", "096", "062", "141")
+#: 77.0, 76.4), the three darkest (29.9, 34.8, 36.2), 141, the pale young man with fair
+#: hair of issue 24 (L* 72.2), and the next palest and darkest whose smile shows teeth
+#: (:data:`TEETH_SHARE`): 097, 009 (74.2) and 099 (38.8). Of the first seven only 083,
+#: 096 and 062 smile with their teeth; the own-teeth error so has three pale people and
+#: three dark ones.
+PORTRAITS = ("083", "112", "124", "137", "096", "062", "141", "097", "009", "099")
+#: a mouth shows teeth (for the own-teeth error) when they are at least this share of
+#: the pixels inside its inner lips (``exprclone.mouth.interior``): half of the
+#: :data:`BRIGHTEST` share, so that the brightest pixels are mostly teeth, not tongue.
+TEETH_SHARE = BRIGHTEST / 2
 
 
 def lab_ab(pixels: np.ndarray) -> np.ndarray:
@@ -135,20 +142,96 @@ def regions(shape: tuple[int, ...], landmarks: np.ndarray) -> dict[str, np.ndarr
     }
 
 
-def interior_ab(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
-    """Mean (a*, b*) of the brightest :data:`BRIGHTEST` of the pixels inside the inner lips."""
-    from exprclone.layout import DLIB68
-
-    inner = np.zeros(image.shape[:2], np.uint8)
-    cv2.fillPoly(inner, [np.round(landmarks[list(DLIB68.mouth_inner)]).astype(np.int32)], 1)
-    pixels = image[inner > 0]
+def brightest_ab(pixels: np.ndarray) -> np.ndarray:
+    """Mean (a*, b*) of the brightest :data:`BRIGHTEST` of uint8 pixels ``(K, 3)`` by luma."""
     luma = pixels.astype(np.float32) @ np.array([0.299, 0.587, 0.114], np.float32)
     return lab_ab(pixels[luma >= np.percentile(luma, 100 * (1 - BRIGHTEST))]).mean(0)
 
 
+def interior_ab(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
+    """Mean (a*, b*) of the brightest :data:`BRIGHTEST` of the pixels inside the inner lips."""
+    return brightest_ab(image[inner_mask(image.shape, landmarks)])
+
+
+def inner_mask(shape: tuple[int, ...], landmarks: np.ndarray) -> np.ndarray:
+    """The pixels inside the inner lips."""
+    from exprclone.layout import DLIB68
+
+    inner = np.zeros(shape[:2], np.uint8)
+    cv2.fillPoly(inner, [np.round(landmarks[list(DLIB68.mouth_inner)]).astype(np.int32)], 1)
+    return inner > 0
+
+
+def cheeks_ab(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
+    """Mean (a*, b*) of the cheeks (:func:`regions`)."""
+    return lab_ab(image[regions(image.shape, landmarks)["cheeks"]]).mean(0)
+
+
 def relation(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
     """The interior's (a*, b*) minus the cheeks' (:func:`interior_ab`, :func:`regions`)."""
-    return interior_ab(image, landmarks) - lab_ab(image[regions(image.shape, landmarks)["cheeks"]]).mean(0)
+    return interior_ab(image, landmarks) - cheeks_ab(image, landmarks)
+
+
+def paste_relation(result) -> np.ndarray:
+    """The relation of a clone's output with the pasted interior where it is whole (:data:`WHOLE`) as its interior.
+
+    Inside the final inner lips the paste fades out toward the lip line, and there the
+    output shows the target's own lips, stretched: on a pale portrait they are as bright
+    as the pasted teeth, and would count among the brightest pixels.
+    """
+    whole = result.mouth_mask >= WHOLE * result.mouth_mask.max()
+    return brightest_ab(result.image[whole]) - cheeks_ab(result.image, result.landmarks["final"])
+
+
+def teeth_share(image: np.ndarray, landmarks: np.ndarray, gain: np.ndarray | None = None) -> float:
+    """The share of the pixels inside the inner lips that are teeth (``exprclone.mouth.interior``, after ``gain``)."""
+    from exprclone import lips, mouth
+    from exprclone.layout import DLIB68
+
+    landmarks = lips.uncross(landmarks, DLIB68)
+    return float(mouth.interior(image, landmarks, DLIB68, gain)[0].sum() / max(int(inner_mask(image.shape, landmarks).sum()), 1))
+
+
+def eye_white_balance(frames: list[np.ndarray], points: np.ndarray) -> np.ndarray:
+    """The per-channel gain that makes a clip's eye whites grey (their midmean over every frame), its brightness kept.
+
+    The light of a clip is the same in all its frames; under it a coloured light
+    saturates teeth as it does lips, and ``exprclone.mouth.interior`` no longer tells
+    them apart.
+    """
+    from exprclone import illuminant
+    from exprclone.layout import DLIB68
+
+    white = np.maximum(illuminant.midmean(np.concatenate([illuminant.sclera_pixels(f, p, DLIB68) for f, p in zip(frames, points)])), 1.0)
+    return np.exp(np.log(white).mean()) / white
+
+
+def own_smile(data: Path, face: str, size: int | None) -> np.ndarray | None:
+    """The relation (:func:`relation`) of a London person's own smile, scaled as the portraits are; None when it shows too few teeth."""
+    from exprclone import lips
+    from exprclone.layout import DLIB68
+    from exprclone.models import default_detector
+
+    smile = load_image(data / "london/smiling_front" / f"{face}_08.jpg")
+    if size:
+        smile = resize_portrait(smile, size)
+    points = lips.uncross(default_detector().detect(smile), DLIB68)
+    return relation(smile, points) if teeth_share(smile, points) >= TEETH_SHARE else None
+
+
+def own_floor(data: Path, size: int | None) -> tuple[dict[str, float], float]:
+    """What pasting the average real teeth would score on the own-teeth error: each person's distance to the others' mean.
+
+    Over the London smiles that show teeth (:func:`own_smile`): for each person, the
+    distance between their relation and the mean of everyone else's (leave one out);
+    and the mean of those distances, the between-person spread of the relation.
+    """
+    faces = sorted(p.name[:3] for p in (data / "london/smiling_front").glob("*_08.jpg"))
+    smiles = {face: r for face in faces if (r := own_smile(data, face, size)) is not None}
+    values = np.array(list(smiles.values()))
+    total = values.sum(0)
+    floors = {face: float(np.linalg.norm(r - (total - r) / (len(values) - 1))) for face, r in smiles.items()}
+    return floors, float(np.mean(list(floors.values())))
 
 
 def load_image(path):
@@ -183,11 +266,7 @@ def pasted(result) -> bool:
 
 def inner_ab(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
     """Mean (a*, b*) of all the pixels inside the inner lips."""
-    from exprclone.layout import DLIB68
-
-    inner = np.zeros(image.shape[:2], np.uint8)
-    cv2.fillPoly(inner, [np.round(landmarks[list(DLIB68.mouth_inner)]).astype(np.int32)], 1)
-    return lab_ab(image[inner > 0]).mean(0)
+    return lab_ab(image[inner_mask(image.shape, landmarks)]).mean(0)
 
 
 def steps(colours: list[np.ndarray | None]) -> float:
@@ -196,12 +275,21 @@ def steps(colours: list[np.ndarray | None]) -> float:
     return float(np.mean(moves)) if moves else np.nan
 
 
-def drive(clip: Path, portrait: np.ndarray, portrait_points: np.ndarray) -> dict:
-    """One clip driving one portrait: the relation distance, the flicker, the ERI shift and the driver's cast."""
+def drive(clip: Path, portrait: np.ndarray, portrait_points: np.ndarray, own: np.ndarray | None = None) -> dict:
+    """One clip driving one portrait: the relation distance, the own-teeth error, the flicker, the ERI shift and the driver's cast.
+
+    ``own`` is the relation of the portrait person's own smile (:func:`own_smile`): the
+    own-teeth error is the distance of the paste's relation (:func:`paste_relation`) to
+    it, on the open frames whose driver shows teeth (:data:`TEETH_SHARE`, told once the
+    clip's light is made white by its eye whites, :func:`eye_white_balance`).
+    """
+    from exprclone.io.video import read_frames
+
     points_of, frames = driven(portrait, portrait_points, clip)
+    balance = eye_white_balance(list(read_frames(clip)), points_of) if own is not None else None
     target = regions(portrait.shape, portrait_points)
     target_ab = {k: lab_ab(portrait[m]).mean(0) for k, m in target.items()}
-    distances, shifts, casts, paste, source = [], [], [], [], []
+    distances, pastes, owned, shifts, casts, paste, source = [], [], [], [], [], [], []
     for f in frames:
         final, points = f.result.landmarks["final"], points_of[f.index]
         out = regions(f.image.shape, final)
@@ -209,12 +297,19 @@ def drive(clip: Path, portrait: np.ndarray, portrait_points: np.ndarray) -> dict
         casts.append(np.linalg.norm(lab_ab(f.driving[regions(f.driving.shape, points)["cheeks"]]).mean(0) - target_ab["cheeks"]))
         opened = pasted(f.result)
         if opened:
-            distances.append(np.linalg.norm(relation(f.driving, points) - relation(f.image, final)))
+            driver = relation(f.driving, points)
+            distances.append(np.linalg.norm(driver - relation(f.image, final)))
+            pastes.append(np.linalg.norm(driver - paste_relation(f.result)))
+            if own is not None and teeth_share(f.driving, points, balance) >= TEETH_SHARE:
+                owned.append(np.linalg.norm(own - paste_relation(f.result)))
         whole = f.result.mouth_mask >= WHOLE * f.result.mouth_mask.max() if opened else None
         paste.append(lab_ab(f.image[whole]).mean(0) if opened else None)
         source.append(inner_ab(f.driving, points) if opened else None)
     return {
         "distance": np.mean(distances) if distances else np.nan,
+        "paste_distance": np.mean(pastes) if pastes else np.nan,
+        "own": np.mean(owned) if owned else np.nan,
+        "teeth_frames": len(owned),
         "open": len(distances),
         "frames": len(shifts),
         "flicker": steps(paste),
@@ -230,7 +325,8 @@ def drive_case(case: tuple[Path, str, Path, int]) -> dict:
 
     data, face, clip, size = case
     portrait = resize_portrait(load_image(data / "london/neutral_front" / f"{face}_03.jpg"), size)
-    return dict(drive(clip, portrait, default_detector().detect(portrait)), clip=clip.stem, portrait=face)
+    own = own_smile(data, face, size)
+    return dict(drive(clip, portrait, default_detector().detect(portrait), own), clip=clip.stem, portrait=face)
 
 
 def mouth_crop(image: np.ndarray, landmarks: np.ndarray, size: int = CROP) -> np.ndarray:
@@ -307,7 +403,8 @@ def stills(data: Path, wanted: int, cast: np.ndarray | None = None) -> dict:
         luma = pixels.astype(np.float32) @ np.array([0.299, 0.587, 0.114], np.float32)
         return float(np.median(luma[luma >= np.percentile(luma, 100 * (1 - BRIGHTEST))]))
 
-    distances, brightness, cast_distances, perfect_distances, changes = [], [], [], [], []
+    own_smiles: dict[str, np.ndarray | None] = {}
+    distances, brightness, owned, cast_distances, perfect_distances, changes = [], [], [], [], [], []
     for i in np.random.default_rng(0).permutation(len(every)):
         if len(distances) == wanted:
             break
@@ -317,6 +414,10 @@ def stills(data: Path, wanted: int, cast: np.ndarray | None = None) -> dict:
         if not pasted(r):
             continue
         distances.append(np.linalg.norm(relation(se, se_lm) - relation(r.image, r.landmarks["final"])))
+        if b not in own_smiles:
+            own_smiles[b] = own_smile(data, b, None)
+        if own_smiles[b] is not None and teeth_share(se, se_lm) >= TEETH_SHARE:
+            owned.append(np.linalg.norm(own_smiles[b] - paste_relation(r)))
         real, real_lm = photo(b, True)
         if r.mouth_mask.max() >= WHOLE and shows_teeth(se, se_lm) and shows_teeth(real, real_lm):
             real_inside = np.zeros(real.shape[:2], np.uint8)
@@ -333,6 +434,7 @@ def stills(data: Path, wanted: int, cast: np.ndarray | None = None) -> dict:
     return {
         "distances": np.array(distances),
         "brightness": np.array(brightness),
+        "own": np.array(owned),
         "cast_distances": np.array(cast_distances),
         "perfect_distances": np.array(perfect_distances),
         "changes": np.array(changes),
@@ -370,52 +472,54 @@ def skin_lightness(data: Path) -> list[tuple[str, float]]:
 
 
 def own_teeth(data: Path, portraits: list[str], clips: list[Path], size: int) -> None:
-    """``--own-teeth``: the distance each portrait's own real smile would score against each clip (its teeth, in its light).
+    """``--own-teeth``: the floor of the own-teeth error, and what each portrait's own real smile would score on the issue's measure.
 
-    The relation of the portrait person's London smile (scaled as the portraits are),
-    against the driver's relation on the frames whose mouth is fully open
-    (``mouth.OPENING``); only for people whose smile shows teeth (:data:`TEETH_SHOWN`).
+    The floor (:func:`own_floor`): for each person, the distance between their real
+    smile's relation and the average of the others'. Then the relation of the portrait
+    person's smile (scaled as the portraits are), against the driver's relation on the
+    frames whose mouth is fully open (``mouth.OPENING``), for the people whose smile
+    shows teeth (:func:`own_smile`): a right answer, in white light, on that measure.
     """
-    from exprclone import lips, mouth, tracking
+    from exprclone import mouth, tracking
     from exprclone.io.video import probe, read_frames
     from exprclone.layout import DLIB68
     from exprclone.models import default_detector
 
-    detector, own = default_detector(), {}
-    for face in portraits:
-        smile = resize_portrait(load_image(data / "london/smiling_front" / f"{face}_08.jpg"), size)
-        points = lips.uncross(detector.detect(smile), DLIB68)
-        if mouth.interior(smile, points, DLIB68)[0].sum() >= TEETH_SHOWN * mouth.mouth_width(points, DLIB68) ** 2:
-            own[face] = relation(smile, points)
-    print(f"portraits whose smile shows teeth: {' '.join(own)}")
-    rows = []
+    floors, spread = own_floor(data, size)
+    print(f"{len(floors)} London smiles show teeth; the between-person spread of their relation {spread:.1f}")
+    own = {face: r for face in portraits if (r := own_smile(data, face, size)) is not None}
+    print(" ".join(f"{face}: floor {floors[face]:.1f}" for face in own))
+    detector, rows = default_detector(), []
     for clip in clips:
         points = tracking.smooth(tracking.track(read_frames(clip), detector, clip.name).points, float(probe(clip).fps))
         driver = [relation(f, p) for f, p in zip(read_frames(clip), points) if mouth.opening(p, DLIB68) >= mouth.OPENING[1]]
         rows.append([np.mean([np.linalg.norm(d - r) for d in driver]) for r in own.values()])
         print(f"{clip.stem} | {' | '.join(f'{v:.1f}' for v in rows[-1])}", flush=True)
     scores = np.array(rows)
-    print(f"own real teeth: mean {scores.mean():.1f}, worst {scores.max():.1f}; at most 8 in {np.sum(scores <= 8)} of {scores.size}")
+    print(f"own real teeth on the issue's measure: mean {scores.mean():.1f}, worst {scores.max():.1f}; at most 8 in {np.sum(scores <= 8)} of {scores.size}")
 
 
 def report_videos(cases: list[tuple[Path, str, Path, int]], jobs: int) -> None:
-    """Drive every case (:func:`drive_case`), on ``jobs`` processes; print a row per case, then the mean and the worst case."""
+    """Drive every case (:func:`drive_case`), on ``jobs`` processes; print a row per case, then the means and the worst cases."""
     if not cases:
         return
-    print("clip | portrait | open frames | relation distance | flicker (driver's) | ERI shift (cheeks, folds) | driver's cast")
-    print("---|---|---|---|---|---|---")
+    print("clip | portrait | open frames | relation distance (paste only) | own-teeth error (frames) | flicker (driver's) | ERI shift | driver's cast")
+    print("---|---|---|---|---|---|---|---")
     rows = []
     with concurrent.futures.ProcessPoolExecutor(jobs) if jobs > 1 else contextlib.nullcontext() as pool:
         for row in (pool.map if pool else map)(drive_case, cases):
             rows.append(row)
-            cells = [row["clip"], row["portrait"], f"{row['open']}/{row['frames']}", f"{row['distance']:.1f}"]
-            cells += [f"{row['flicker']:.2f} ({row['driver_flicker']:.2f})", f"{row['eri_shift']:.1f}", f"{row['cast']:.1f}"]
+            cells = [row["clip"], row["portrait"], f"{row['open']}/{row['frames']}", f"{row['distance']:.1f} ({row['paste_distance']:.1f})"]
+            cells += [f"{row['own']:.1f} ({row['teeth_frames']})", f"{row['flicker']:.2f} ({row['driver_flicker']:.2f})"]
+            cells += [f"{row['eri_shift']:.1f}", f"{row['cast']:.1f}"]
             print(" | ".join(cells), flush=True)
     d = np.array([r["distance"] for r in rows])
     worst = rows[int(np.nanargmax(d))]
     print(f"\nvideos: relation distance mean {np.nanmean(d):.1f}, ", end="")
     print(f"worst {worst['distance']:.1f} ({worst['clip']} on {worst['portrait']})", end="")
     print(f"; at most 8 in {np.sum(d <= 8)} of {np.sum(np.isfinite(d))}")
+    print(f"videos: the same with the paste alone as the output's interior: mean {np.nanmean([r['paste_distance'] for r in rows]):.1f}")
+    report_own([r for r in rows if np.isfinite(r["own"])], cases[0][0], cases[0][3])
     flicker = np.array([[r["flicker"], r["driver_flicker"]] for r in rows])
     print(f"flicker: the paste's mean (a*, b*) moves {np.nanmean(flicker[:, 0]):.2f} a frame ", end="")
     print(f"(worst case {np.nanmax(flicker[:, 0]):.2f}), ", end="")
@@ -424,11 +528,29 @@ def report_videos(cases: list[tuple[Path, str, Path, int]], jobs: int) -> None:
     print(f"ERI shift mean {np.mean(shift):.2f}, max {np.max(shift):.2f}")
 
 
-def report_stills(s: dict, cast: list[float] | None) -> None:
+def report_own(rows: list[dict], data: Path, size: int) -> None:
+    """Print the own-teeth error: mean, worst, and per portrait beside its floor (:func:`own_floor`)."""
+    if not rows:
+        return
+    floors, spread = own_floor(data, size)
+    own = np.array([r["own"] for r in rows])
+    worst = rows[int(np.argmax(own))]
+    print(f"videos: own-teeth error mean {own.mean():.1f}, worst {worst['own']:.1f} ({worst['clip']} on {worst['portrait']}), ", end="")
+    print(f"on {len(rows)} cases; floor (the average real teeth pasted) {np.mean([floors[r['portrait']] for r in rows]):.1f}, ", end="")
+    print(f"between-person spread {spread:.1f}")
+    for face in dict.fromkeys(r["portrait"] for r in rows):
+        mine = [r["own"] for r in rows if r["portrait"] == face]
+        print(f"  {face}: own-teeth error mean {np.mean(mine):.1f}, worst {np.max(mine):.1f}; floor {floors[face]:.1f}")
+
+
+def report_stills(s: dict, cast: list[float] | None, data: Path) -> None:
     """Print the figures of :func:`stills`."""
     d, b = s["distances"], s["brightness"]
     print(f"stills: relation distance mean {d.mean():.1f} (median {np.median(d):.1f}, worst {d.max():.1f}) on {len(d)} pairs")
     print(f"stills: teeth log brightness error {np.sqrt(np.mean(b**2)):.3f} rms, mean {b.mean():+.3f}, on {len(b)} pairs")
+    own, spread = s["own"], own_floor(data, None)[1]
+    print(f"stills: own-teeth error mean {own.mean():.1f} (median {np.median(own):.1f}, worst {own.max():.1f}) on {len(own)} pairs ", end="")
+    print(f"whose source and target smile with teeth; floor (between-person spread) {spread:.1f}")
     if cast:
         c, perfect, changes = s["cast_distances"], s["perfect_distances"], s["changes"]
         lost = f"paste lost in {np.isnan(c).sum()} of {len(c)} pairs"
@@ -508,7 +630,7 @@ def main() -> int:
         return 0
     report_videos([(args.data, face, clip, args.size) for face in args.portraits for clip in clips], args.jobs)
     if args.stills:
-        report_stills(stills(args.data, args.stills, None if args.cast is None else np.array(args.cast)), args.cast)
+        report_stills(stills(args.data, args.stills, None if args.cast is None else np.array(args.cast)), args.cast, args.data)
     return 0
 
 
