@@ -90,16 +90,33 @@ def test_teeth_and_cavity_each_take_their_own_pull_and_the_shades_between_blend(
     assert seen.teeth is not None and seen.cavity is not None
     levels = np.exp(np.linspace(seen.cavity.brightness - 0.5, seen.teeth.brightness + 0.5, 41))
     grey = np.repeat(levels[:, None, None], 3, axis=2).astype(np.float32)  # (41, 1, 3): no colour of their own
-    colour = illuminant.split(np.log(teeth.recolour(grey, log_gain, seen, reference.light, light)[:, 0]))[1]
-    (top, prior, spread), (bottom, cavity_prior, cavity_spread) = seen.priors()
+    colour = illuminant.split(np.log(teeth.recolour(grey, log_gain, seen, reference.light, light, seen.width)[:, 0]))[1]
+    (top, prior, _, spread), (bottom, cavity_prior, _, cavity_spread) = seen.priors(seen.width)
     teeth_gain, w = teeth.pull(top, prior, spread, reference.light, light)
     gain = illuminant.split(log_gain)[1]
     assert np.allclose(colour[-1], gain + w * (teeth_gain - gain), atol=1e-4)
+    assert np.allclose(colour[-2], colour[-1], atol=1e-6)  # from the teeth's first quartile up, the teeth's pull whole
     wanted, w = teeth.pull(bottom, cavity_prior, cavity_spread, reference.light, light)
     target_cavity = bottom.log_colour + wanted  # the cavity's prior colour under the target's light
     assert np.allclose(colour[0], (1 - w) * gain + w * target_cavity, atol=1e-4)  # grey in, pulled toward the cavity's colour
     steps = np.linalg.norm(np.diff(colour, axis=0), axis=1)
     assert steps.max() < np.linalg.norm(colour[-1] - colour[0]) / 10  # no jump from one to the other
+
+
+def test_teeth_pasted_on_a_larger_mouth_take_the_colour_real_teeth_show_at_that_size(smile):
+    """The prior by mouth width: a small, compressed mouth reads its teeth redder; enlarged, they are given the larger mouth's colour."""
+    se, se_lm, reference = smile
+    small = cv2.resize(se, None, fx=0.25, fy=0.25, interpolation=cv2.INTER_AREA)
+    seen, light, log_gain = read(in_mouth(small, se_lm / 4, [1.0, 0.85, 0.7]), se_lm / 4, reference)
+    assert seen.width < teeth.WIDTHS[2]
+    top = np.full((1, 1, 3), np.exp(seen.teeth.brightness + 0.5), np.float32)  # as bright as the teeth: their pull alone
+    at = {
+        width: illuminant.split(np.log(teeth.recolour(top, log_gain, seen, reference.light, light, width)[0, 0]))[1]
+        for width in (seen.width, 200.0)
+    }
+    w = teeth.pull(seen.teeth, teeth.prior_colour(seen.width), teeth.TEETH_SPREAD, reference.light, light)[1]
+    assert np.allclose(at[200.0] - at[seen.width], w * (teeth.prior_colour(200.0) - teeth.prior_colour(seen.width)), atol=1e-4)
+    assert at[200.0][0] < at[seen.width][0]  # less red
 
 
 def test_cues_that_disagree_make_the_light_less_certain(photo):

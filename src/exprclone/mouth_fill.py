@@ -140,7 +140,7 @@ def fill_interior(
 
     gain = below_white(gain, patch[polygon > 0])
     seen = reference.source_interior or teeth.Interior.read((source[parts[0]], source[parts[1]]), mouth_width(source_landmarks, layout))
-    patch = teeth.recolour(patch, np.log(gain), seen, reference.light, source_light(source, source_landmarks, reference, layout))
+    patch = teeth.recolour(patch, np.log(gain), seen, reference.light, source_light(source, source_landmarks, reference, layout), width)
     scale = geometry.interocular(final, layout) / geometry.interocular(source_landmarks, layout)
     patch = match_grain(patch, source, source_landmarks, reference, scale, gain)
 

@@ -125,11 +125,14 @@ class Part:
     variance : float
         Variance of the log colour's reading per degree of freedom (its pixels' spread
         over their number).
+    quartiles : tuple of float
+        The first and third quartiles of its pixels' log brightness.
     """
 
     log_colour: np.ndarray
     brightness: float
     variance: float
+    quartiles: tuple[float, float]
 
     @classmethod
     def read(cls, pixels: np.ndarray) -> Part | None:
@@ -140,6 +143,8 @@ class Part:
         >>> part = Part.read(np.tile(np.array([[200, 190, 180]], np.uint8), (20, 1)))
         >>> np.exp(part.log_colour).round(3).tolist(), round(float(np.exp(part.brightness))), part.variance
         ([1.054, 1.001, 0.948], 190, 0.0)
+        >>> np.exp(part.quartiles).round().tolist()
+        [190.0, 190.0]
         >>> Part.read(np.full((20, 3), 255, np.uint8)) is None
         True
         """
@@ -147,7 +152,9 @@ class Part:
         if not np.isfinite(variance[1]):
             return None
         brightness, log_colour = illuminant.split(colour)
-        return cls(log_colour, float(brightness), float(variance[1]))
+        shades = illuminant.split(np.log(np.maximum(pixels[pixels.max(1) < illuminant.SATURATED], 1).astype(np.float32)))[0]
+        low, high = np.percentile(shades, [25, 75])
+        return cls(log_colour, float(brightness), float(variance[1]), (float(low), float(high)))
 
 
 @dataclass(frozen=True)
@@ -163,15 +170,17 @@ class Interior:
         """Read the teeth pixels and the cavity pixels (``(K, 3)`` uint8 each, :func:`exprclone.mouth.interior`)."""
         return cls(Part.read(pixels[0]), Part.read(pixels[1]), float(width))
 
-    def priors(self) -> tuple[tuple[Part | None, np.ndarray, float], ...]:
-        """Each part with its prior colour (:func:`prior_colour`) and spread."""
+    def priors(self, width: float) -> tuple[tuple[Part | None, np.ndarray, np.ndarray, float], ...]:
+        """Each part with its prior colour (:func:`prior_colour`) on the source's mouth and on one ``width`` pixels wide, and its spread."""
         return (
-            (self.teeth, prior_colour(self.width, TEETH_COLOURS), TEETH_SPREAD),
-            (self.cavity, prior_colour(self.width, CAVITY_COLOURS), CAVITY_SPREAD),
+            (self.teeth, prior_colour(self.width, TEETH_COLOURS), prior_colour(width, TEETH_COLOURS), TEETH_SPREAD),
+            (self.cavity, prior_colour(self.width, CAVITY_COLOURS), prior_colour(width, CAVITY_COLOURS), CAVITY_SPREAD),
         )
 
 
-def pull(part: Part, prior: np.ndarray, spread: float, target: illuminant.Light, source: illuminant.Light) -> tuple[np.ndarray, float]:
+def pull(
+    part: Part, prior: np.ndarray, spread: float, target: illuminant.Light, source: illuminant.Light, aim: np.ndarray | None = None
+) -> tuple[np.ndarray, float]:
     """The log colour gain that gives one part its prior colour under the target's light, and how far to pull toward it.
 
     The source's part is taken to white light by the reading of the source's light
@@ -182,6 +191,9 @@ def pull(part: Part, prior: np.ndarray, spread: float, target: illuminant.Light,
     prior's: ``spread`` squared) is put on the source's light. The pull is
     ``w = (v + r + e) / (v + r + e + s)``: the transfer's variance over the sum of the
     two estimates'. The target's light is read alike in both, and does not weigh.
+    The colour given is ``aim`` when given: the prior as read on the output's mouth,
+    whose size is not the source's (a small, compressed source mouth reads its teeth
+    redder, mixed with its lips, than the pasted teeth, enlarged, should be).
 
     Parameters
     ----------
@@ -193,11 +205,13 @@ def pull(part: Part, prior: np.ndarray, spread: float, target: illuminant.Light,
         Its between-people standard deviation, per degree of freedom.
     target, source : illuminant.Light
         The cues on the target photo and on the source's.
+    aim : ndarray of shape (3,), optional
+        The log colour in white light to give the part (default ``prior``).
 
     Returns
     -------
     wanted : ndarray of shape (3,)
-        The log colour gain that gives the part the colour ``prior`` under the target's light.
+        The log colour gain that gives the part the colour ``aim`` under the target's light.
     w : float
         The pull, in [0, 1].
 
@@ -219,10 +233,12 @@ def pull(part: Part, prior: np.ndarray, spread: float, target: illuminant.Light,
     known = variance + part.variance
     excess = max(0.0, float(np.square(in_white - prior).sum()) / 2 - (known + spread**2))
     w = (known + excess) / (known + excess + spread**2) if np.isfinite(known) else 1.0
-    return prior + cast_target - part.log_colour, float(w)
+    return (prior if aim is None else aim) + cast_target - part.log_colour, float(w)
 
 
-def recolour(patch: np.ndarray, log_gain: np.ndarray, interior: Interior, target: illuminant.Light, source: illuminant.Light) -> np.ndarray:
+def recolour(
+    patch: np.ndarray, log_gain: np.ndarray, interior: Interior, target: illuminant.Light, source: illuminant.Light, width: float
+) -> np.ndarray:
     """Source pixels times the transfer's gain, their colour pulled toward real teeth's and cavity's (:func:`pull`).
 
     A pixel as bright as the teeth or brighter is pulled as the teeth are: its colour
@@ -231,8 +247,10 @@ def recolour(patch: np.ndarray, log_gain: np.ndarray, interior: Interior, target
     or darker is pulled as the cavity is, but by its own colour: it moves by ``w``
     toward the cavity's prior colour itself, since a dark pixel's own colour says little
     (on the orange-lit GRID clip lbax4n the cavity's blue is 5 of 255, and a gain that
-    gave it a colour would make its noise purple). Between the two, the pull changes
-    linearly with the log brightness (:func:`exprclone.illuminant.split`, which a
+    gave it a colour would make its noise purple). Each part is given its prior colour as
+    read on the output's mouth (``width``). "As bright as the teeth" is from the teeth's
+    first quartile of brightness up, "as dark as the cavity" from its third quartile
+    down; between the two, the pull changes linearly with the log brightness (:func:`exprclone.illuminant.split`, which a
     light's brightness shifts alike for every pixel). With one part read, its pull
     applies to every pixel; with none, the gain alone. Brightness is the transfer's:
     the pulls are of colour only.
@@ -246,6 +264,8 @@ def recolour(patch: np.ndarray, log_gain: np.ndarray, interior: Interior, target
     interior : Interior
         The source's teeth and cavity, in the source's light.
     target, source : illuminant.Light
+    width : float
+        The output's mouth width in pixels (:func:`exprclone.mouth.mouth_width`).
 
     Returns
     -------
@@ -254,14 +274,14 @@ def recolour(patch: np.ndarray, log_gain: np.ndarray, interior: Interior, target
     colour = illuminant.split(log_gain)[1]
     brightness, own = illuminant.split(np.log(np.maximum(patch, 1.0)))
     pulls = []
-    for part, prior, spread in interior.priors():
+    for part, prior, aim, spread in interior.priors(width):
         if part is not None:
-            wanted, w = pull(part, prior, spread, target, source)
+            wanted, w = pull(part, prior, spread, target, source, aim)
             kept = 0.0 if part is interior.teeth else own - part.log_colour  # a dark pixel's own colour says little
             pulls.append((part, w * (wanted - colour - kept)))
     if not pulls:
         return patch * np.exp(log_gain).astype(np.float32)
     (top, top_pull), (bottom, bottom_pull) = pulls[0], pulls[-1]
-    span = top.brightness - bottom.brightness
-    share = np.clip((brightness - bottom.brightness) / span, 0.0, 1.0)[..., None] if span > 0 else 1.0
+    high, low = top.quartiles[0], bottom.quartiles[1]
+    share = np.clip((brightness - low) / (high - low), 0.0, 1.0)[..., None] if high > low else 1.0
     return (patch * np.exp(log_gain + bottom_pull + share * (top_pull - bottom_pull))).astype(np.float32)
