@@ -496,14 +496,16 @@ def own_teeth(data: Path, portraits: list[str], clips: list[Path], size: int) ->
         rows.append([np.mean([np.linalg.norm(d - r) for d in driver]) for r in own.values()])
         print(f"{clip.stem} | {' | '.join(f'{v:.1f}' for v in rows[-1])}", flush=True)
     scores = np.array(rows)
-    print(f"own real teeth on the issue's measure: mean {scores.mean():.1f}, worst {scores.max():.1f}; at most 8 in {np.sum(scores <= 8)} of {scores.size}")
+    print(f"own real teeth on the issue's measure: mean {scores.mean():.1f}, worst {scores.max():.1f}; ", end="")
+    print(f"at most 8 in {np.sum(scores <= 8)} of {scores.size}")
 
 
 def report_videos(cases: list[tuple[Path, str, Path, int]], jobs: int) -> None:
     """Drive every case (:func:`drive_case`), on ``jobs`` processes; print a row per case, then the means and the worst cases."""
     if not cases:
         return
-    print("clip | portrait | open frames | relation distance (paste only) | own-teeth error (frames) | flicker (driver's) | ERI shift | driver's cast")
+    print("clip | portrait | open frames | relation distance (paste only) | own-teeth error (frames) | ", end="")
+    print("flicker (driver's) | ERI shift | driver's cast")
     print("---|---|---|---|---|---|---|---")
     rows = []
     with concurrent.futures.ProcessPoolExecutor(jobs) if jobs > 1 else contextlib.nullcontext() as pool:
@@ -549,7 +551,8 @@ def report_stills(s: dict, cast: list[float] | None, data: Path) -> None:
     print(f"stills: relation distance mean {d.mean():.1f} (median {np.median(d):.1f}, worst {d.max():.1f}) on {len(d)} pairs")
     print(f"stills: teeth log brightness error {np.sqrt(np.mean(b**2)):.3f} rms, mean {b.mean():+.3f}, on {len(b)} pairs")
     own, spread = s["own"], own_floor(data, None)[1]
-    print(f"stills: own-teeth error mean {own.mean():.1f} (median {np.median(own):.1f}, worst {own.max():.1f}) on {len(own)} pairs ", end="")
+    print(f"stills: own-teeth error mean {own.mean():.1f} (median {np.median(own):.1f}, worst {own.max():.1f}) ", end="")
+    print(f"on {len(own)} pairs ", end="")
     print(f"whose source and target smile with teeth; floor (between-person spread) {spread:.1f}")
     if cast:
         c, perfect, changes = s["cast_distances"], s["perfect_distances"], s["changes"]
