@@ -222,7 +222,7 @@ def pull(
     brightness), and the pull is nearly whole:
 
     >>> white, prior = white_light(), prior_colour(40.0)
-    >>> orange = Part(illuminant.split(prior + np.log([1.0, 0.8, 0.5]))[1], 4.0, 1e-5)
+    >>> orange = Part(illuminant.split(prior + np.log([1.0, 0.8, 0.5]))[1], 4.0, 1e-5, (4.0, 4.0))
     >>> wanted, w = pull(orange, prior, TEETH_SPREAD, white, white)
     >>> np.exp(wanted).round(2).tolist(), round(w, 3)
     ([0.74, 0.92, 1.47], 0.996)
