@@ -45,6 +45,24 @@ def test_clone_shows_the_result_at_the_target_size(page):
     assert page.get_attribute("img#result", "src").startswith("blob:")
 
 
+def test_swapped_source_photos_are_warned_of_beside_the_result(page):
+    set_photos(page, samples.path("003"))
+    page.set_input_files("input[type=file][name=source_neutral]", str(samples.path("126", "smile")))
+    page.set_input_files("input[type=file][name=source_expression]", str(samples.path("126")))
+    page.select_option("#method", "elastic")
+    page.click("#clone")
+    page.wait_for_function("document.querySelector('#busy').hidden", timeout=CLONE_TIMEOUT)
+    assert page.is_hidden("#error") and page.is_visible("#result-box")
+    assert page.text_content("#warning") == (
+        "source neutral: looks more expressive than source_expression; are the source's two photos swapped?"
+    )
+    set_photos(page, samples.path("003"))  # the right order: the warning goes
+    page.click("#clone")
+    page.wait_for_function("document.querySelector('#busy').hidden", timeout=CLONE_TIMEOUT)
+    assert page.is_hidden("#warning")
+    page.select_option("#method", "e+md")
+
+
 def test_landmarks_are_drawn_over_a_chosen_photo(page):
     page.set_input_files("input[type=file][name=target_neutral]", str(samples.path("003")))
     page.wait_for_function(

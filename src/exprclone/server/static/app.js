@@ -7,10 +7,20 @@ const LAMBDAS = [0, 0.1, 0.2, 0.35, 0.5, 0.75, 1, 1.5, 2, 3, 5, 10, Infinity];
 const POLL_EVERY = 500; // ms between two looks at a video job
 
 // The server names inputs by their form field ("target_neutral: no face found"); the page by their label.
+// "target_neutral: no face found" -> "target neutral: no face found"
+const readable = (message) => message.replace(/^([a-z_]+):/, (_, field) => field.replace(/_/g, " ") + ":");
+
 function say(message) {
   const box = $("#error");
-  box.textContent = message ? message.replace(/^([a-z_]+):/, (_, field) => field.replace(/_/g, " ") + ":") : "";
+  box.textContent = message ? readable(message) : "";
   box.hidden = !message;
+}
+
+// the clone's role warnings (photos that look swapped, or of two people), beside its result
+function warn(messages) {
+  const box = $("#warning");
+  box.textContent = messages.map(readable).join(" ");
+  box.hidden = messages.length === 0;
 }
 
 function busy(on) {
@@ -173,6 +183,7 @@ let shown = { result: null, before: null };
 
 $("#clone").addEventListener("click", async () => {
   say("");
+  warn([]);
   busy(true);
   try {
     const record = await (await call("/api/clone?format=json", { method: "POST", body: cloneForm(true) })).json();
@@ -193,6 +204,7 @@ $("#clone").addEventListener("click", async () => {
     $("#download-png").href = png;
     $("#download-json").href = URL.createObjectURL(new Blob([JSON.stringify(record, null, 1)], { type: "application/json" }));
     $("#result-box").hidden = false;
+    warn(record.warnings || []);
   } catch (e) {
     say(e.message);
   } finally {
