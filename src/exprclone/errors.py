@@ -2,6 +2,7 @@
 
 import contextlib
 import os
+import warnings
 from collections.abc import Iterator
 
 
@@ -81,3 +82,15 @@ def naming(names: dict[str, str]) -> Iterator[None]:
 
 class ExprCloneWarning(UserWarning):
     """Input that was handled but deserves the user's attention (several faces, converted photo)."""
+
+
+def one_face(found: int, subject: str, advice: str, stacklevel: int = 2) -> None:
+    """What a landmarker says of the ``found`` faces in ``subject``: none is a :class:`NoFaceError`
+    (with ``advice``), several an :class:`ExprCloneWarning` (the largest is used).
+
+    ``stacklevel`` counts from the landmarker's method that calls this, as in :func:`warnings.warn`.
+    """
+    if not found:
+        raise NoFaceError(subject, f"no face found ({advice})")
+    if found > 1:
+        warnings.warn(f"{subject}: {found} faces found, using the largest", ExprCloneWarning, stacklevel=stacklevel + 1)

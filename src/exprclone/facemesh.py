@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
 from importlib import resources
@@ -42,7 +41,7 @@ import cv2
 import numpy as np
 
 from . import blazeface
-from .errors import ExprCloneError, ExprCloneWarning, NoFaceError
+from .errors import ExprCloneError, one_face
 from .mesh_layout import MESH_EYE_CORNERS, to_68
 
 #: the face crop's side, in detector box (or mesh box) sides.
@@ -235,10 +234,7 @@ class MeshDetector:
     def detect_mesh(self, image: np.ndarray, subject: str = "image") -> np.ndarray:
         """The 468 mesh points of the largest face in ``image``; as :meth:`detect`, whose errors and warnings it gives."""
         found = self.detections(image)
-        if not len(found):
-            raise NoFaceError(subject, "no face found (use a photo that shows the face whole, or give its landmarks)")
-        if len(found) > 1:
-            warnings.warn(f"{subject}: {len(found)} faces found, using the largest", ExprCloneWarning, stacklevel=3)
+        one_face(len(found), subject, "use a photo that shows the face whole, or give its landmarks", stacklevel=3)
         largest = int(np.argmax(np.prod(found.boxes[:, 2:] - found.boxes[:, :2], axis=1)))
         eyes = found.keypoints[largest, [blazeface.RIGHT_EYE, blazeface.LEFT_EYE]]
         return self.refine(image, Roi.of_box(found.boxes[largest], *eyes))

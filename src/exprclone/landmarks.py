@@ -10,13 +10,12 @@ from __future__ import annotations
 
 import importlib.util
 import os
-import warnings
 from typing import Any
 
 import cv2
 import numpy as np
 
-from .errors import ExprCloneError, ExprCloneWarning, NoFaceError
+from .errors import ExprCloneError, one_face
 
 #: the HOG detector runs on a copy whose longest side is at most this many pixels.
 DETECT_SIZE = 512
@@ -97,8 +96,5 @@ class Detector:
             No face is found.
         """
         boxes = self.faces(image)
-        if not boxes:
-            raise NoFaceError(subject, "no face found (use a frontal photo, or give its landmarks)")
-        if len(boxes) > 1:
-            warnings.warn(f"{subject}: {len(boxes)} faces found, using the largest", ExprCloneWarning, stacklevel=2)
+        one_face(len(boxes), subject, "use a frontal photo, or give its landmarks")
         return self.fit(image, boxes[0])

@@ -11,7 +11,10 @@ on the image's left.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+
+import numpy as np
 
 
 @dataclass(frozen=True)
@@ -88,6 +91,34 @@ class Layout:
             "eyes": organs["right_eye"] + organs["left_eye"],
             "brows": organs["right_brow"] + organs["left_brow"],
         }
+
+
+def weight_matrix(table: Sequence[Sequence[tuple[int, float]]], n_from: int) -> np.ndarray:
+    """A table that makes each point of one layout from points of another as a matrix.
+
+    Parameters
+    ----------
+    table : sequence of sequences of (int, float)
+        For each point of the layout made, ``((index in the other layout, weight), ...)``.
+    n_from : int
+        The other layout's number of points.
+
+    Returns
+    -------
+    ndarray of shape (len(table), n_from)
+        Its product with the other layout's ``(n_from, 2)`` points gives this layout's.
+
+    Examples
+    --------
+    >>> weight_matrix((((0, 1.0),), ((0, 0.5), (2, 0.5))), 3) @ np.array([[0.0, 0], [1, 1], [2, 4]])
+    array([[0., 0.],
+           [1., 2.]])
+    """
+    weights = np.zeros((len(table), n_from))
+    for i, row in enumerate(table):
+        for j, w in row:
+            weights[i, j] = w
+    return weights
 
 
 def _r(a: int, b: int) -> tuple[int, ...]:

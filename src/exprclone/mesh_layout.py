@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .layout import weight_matrix
+
 #: the mesh's points.
 MESH_POINTS = 468
 #: the outer eye corners (subject's right, left): the mesh's horizontal axis.
@@ -111,16 +113,7 @@ MESH_TO_68 = (
 )
 
 
-def _weights() -> np.ndarray:
-    """:data:`MESH_TO_68` as a ``(68, 468)`` matrix of weights."""
-    weights = np.zeros((len(MESH_TO_68), MESH_POINTS))
-    for i, row in enumerate(MESH_TO_68):
-        for j, w in row:
-            weights[i, j] = w
-    return weights
-
-
-_WEIGHTS = _weights()
+_WEIGHTS = weight_matrix(MESH_TO_68, MESH_POINTS)
 
 
 def to_68(mesh: np.ndarray) -> np.ndarray:

@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ExprCloneError
+from ..layout import weight_matrix
 
 #: for each of the 68 points: ((template index, weight), ...), weights summing to 1.
 FRL189_TO_DLIB68 = (
@@ -100,16 +101,7 @@ FRL189_TO_DLIB68 = (
 )
 
 
-def _weight_matrix() -> np.ndarray:
-    """The table as a (68, 189) matrix of weights."""
-    weights = np.zeros((len(FRL189_TO_DLIB68), 189))
-    for i, row in enumerate(FRL189_TO_DLIB68):
-        for j, w in row:
-            weights[i, j] = w
-    return weights
-
-
-_WEIGHTS = _weight_matrix()
+_WEIGHTS = weight_matrix(FRL189_TO_DLIB68, 189)
 
 
 def frl_to_68(points189: np.ndarray) -> np.ndarray:
