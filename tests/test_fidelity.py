@@ -5,7 +5,7 @@ import pytest
 from changes import lit_from_the_side, lock_of_hair
 
 import exprclone
-from exprclone import eri, geometry, raster, shading
+from exprclone import eri, geometry, shading
 from exprclone.evaluation.scores import material_swaps
 from exprclone.layout import DLIB68
 
@@ -64,8 +64,8 @@ def test_a_fringe_that_moved_prints_nothing(photo, monkeypatch):
     assert swapped.sum() > 0.05 * geometry.interocular(result.landmarks["final"], DLIB68) ** 2  # the fringe moved
     assert np.abs(result.eri[swapped] - 1).max() < 0.01
     # without the tests of what is there, the fringe would print
-    monkeypatch.setattr(shading, "moved", lambda shape, *a: np.ones(shape, np.float32))
+    monkeypatch.setattr(shading, "moved", lambda labelling, *a: np.ones(labelling.labels.shape, np.float32))
     monkeypatch.setattr(shading, "skin", lambda images, weight, *a, **k: np.ones(weight.shape, np.float32))
-    monkeypatch.setattr(eri, "texture_confidence", lambda y, iod, step=1: np.ones_like(raster.shrink(y, step)))
+    monkeypatch.setattr(eri, "texture", lambda energy, mean, window: np.ones_like(mean))
     ungated = exprclone.clone(sn, se, tn, method="e+md", landmarks=(sn_lm, se_lm, tn_lm))
     assert np.abs(ungated.eri[swapped] - 1).max() > 0.1

@@ -61,3 +61,19 @@ def test_mask_drawn_in_strips_is_the_maximum_of_whole_bumps():
     m = muscle.importance_mask(shape, centres, radii, h)
     assert m.shape == shape and m.dtype == np.float32
     assert np.abs(m - (1 + bumps.max(axis=0))).max() < h.max() * np.exp(-8)  # what lies past 4 sigma
+
+
+def test_mask_on_a_coarser_grid_stays_within_its_bound():
+    """Drawn at the step a clone uses and enlarged, the mask is Eq. (10) to within h / 144 on one bump, h / 20 where two
+    meet (muscle.SIGMA_PIXELS)."""
+    shape = (333, 250)
+    centres, radii, h = np.array([[60.0, 70.0], [120.0, 150.0]]), np.array([25.0, 30.0]), np.array([0.5, 0.5])
+    step = muscle.mask_step(radii)
+    assert step == 5  # the narrowest sigma, 25 / sqrt(ln 2) = 30 px, spans 6 blocks of 5
+    # the first and the last partial block are extrapolated: the mask inside the ERI's box, well inside the photo, counts
+    inner = (slice(step, shape[0] // step * step - step), slice(step, shape[1] // step * step - step))
+    for areas, bound in ((slice(0, 1), h[0] / 144), (slice(0, 2), h.max() / 20)):
+        exact = muscle.importance_mask(shape, centres[areas], radii[areas], h[areas])
+        coarse = muscle.importance_mask(shape, centres[areas], radii[areas], h[areas], step)
+        assert coarse.shape == shape and coarse.min() >= 1.0
+        assert np.abs(coarse - exact)[inner].max() < bound

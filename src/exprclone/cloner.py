@@ -22,7 +22,7 @@ from .layout import DLIB68, Layout
 from .methods import METHODS, SHAPES, Method, lookup
 from .options import Options
 from .roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
-from .stages import IMAGE_WARPERS, SHAPE_STAGES, Expression, Rendered, Shape, ratio_image
+from .stages import IMAGE_WARPERS, SHAPE_STAGES, Expression, RatioFaces, Rendered, Shape, ratio_image
 from .transfer import Transfer
 
 
@@ -168,6 +168,16 @@ class Cloner:
         return global_warp.rbf_jacobians(self.s_neu, self.t_neu, self.layout)
 
     @functools.cached_property
+    def db_target(self) -> tuple[np.ndarray, float]:
+        """The target photo as the DB metric's candidates are warped from (:func:`exprclone.metric.target_grey`)."""
+        return metric.target_grey(self.target_image, self.mesh, self.layout)
+
+    @functools.cached_property
+    def ratio_faces(self) -> RatioFaces:
+        """The source's neutral photo and the target's prepared for the ERI (:class:`~exprclone.stages.RatioFaces`)."""
+        return RatioFaces.prepare(self.mesh, self.source_image, self._source_neutral_ctrl, self.target_image, self.layout)
+
+    @functools.cached_property
     def mouth_reference(self) -> mouth_tone.Reference:
         """The target photo and the source's neutral photo measured for the mouth interior's match."""
         return mouth_tone.Reference.measure(self.target_image, self.t_neu, self.layout, (self.source_image, self.s_neu))
@@ -236,8 +246,9 @@ class Cloner:
         aligned = global_warp.remove_head_motion(self.s_neu, expression.points, self.layout)
         shift = self.mesh.control_points(aligned, geometry.fit_rigid(self.t_neu, self.s_neu, self.layout)) - self._source_neutral_ctrl
         motion = np.linalg.norm(shift, axis=1) / geometry.interocular(self.s_neu, self.layout)
-        sources, ctrl = (self.source_image, expression.image), [self._source_neutral_ctrl, placed]
-        ratio, box = ratio_image(self.mesh, target, sources, ctrl, motion, self.layout, self.image_warp)
+        faces = self.ratio_faces
+        photo = faces.expression(expression.image, placed, self.mesh)
+        ratio, box = ratio_image(self.mesh, target, faces, photo, (self._source_neutral_ctrl, placed), motion, self.layout, self.image_warp)
         return self.transfer.ratio(ratio, box), box
 
     def result(
@@ -289,13 +300,13 @@ class Cloner:
         importance: np.ndarray | float = 1.0
         if method.md:
             h = muscle.strengths(self.s_neu, global_warp.remove_head_motion(self.s_neu, expression.points, self.layout), self.layout)
-            importance = muscle.importance_mask(self.target_image.shape[:2], *muscle.areas(final, self.layout), h)
+            centres, radii = muscle.areas(final, self.layout)
+            importance = muscle.importance_mask(self.target_image.shape[:2], centres, radii, h, muscle.mask_step(radii))
             details.update(muscle_mask=importance, muscle_strengths=h)
         image = fi.copy()
         image[box] = eri.apply_details(fi[box], ratio_map[box], importance if isinstance(importance, float) else importance[box])
-        if mouth:
-            reference = self.mouth_reference
+        if mouth:  # the photos are measured for the paste's match only when there is a paste
             image, details["mouth_mask"] = mouth_fill.fill_interior(
-                image, final, expression.image, expression.points, reference, self.layout, self.transfer.paste
+                image, final, expression.image, expression.points, lambda: self.mouth_reference, self.layout, self.transfer.paste
             )
         return image, details

@@ -103,7 +103,7 @@ def vector_length(v: np.ndarray) -> np.ndarray:
 
 
 def elastic_landmarks(
-    global_pts: np.ndarray, local_pts: np.ndarray, neighbours: list[np.ndarray], lambda_k: float | np.ndarray
+    global_pts: np.ndarray, local_pts: np.ndarray, neighbours: list[np.ndarray], lambda_k: float | np.ndarray, passes: int = PASSES
 ) -> np.ndarray:
     """``P_opt`` for every landmark, Eq. (5), by a refining grid search in the window.
 
@@ -122,6 +122,9 @@ def elastic_landmarks(
         Triangulation neighbours of each landmark (:meth:`Mesh.neighbours`).
     lambda_k : float or ndarray of shape (L,)
         Elasticity ratio ``k_A' / k_N`` (Eq. 6), ``>= 0``.
+    passes : int
+        Passes of the grid search (:data:`PASSES`); fewer place the points less precisely
+        (to an eighth of the window, then a quarter of that in each further pass).
 
     Returns
     -------
@@ -133,12 +136,17 @@ def elastic_landmarks(
     searched = np.flatnonzero(np.isfinite(lambdas) & (lambdas > 0))
     points = np.flatnonzero(np.any(global_pts != local_pts, axis=1))  # where A = A' the answer is A
     if len(searched) and len(points):
-        out[searched[:, None], points] = grid_search(global_pts, local_pts, neighbours, points, lambdas[searched])
+        out[searched[:, None], points] = grid_search(global_pts, local_pts, neighbours, points, lambdas[searched], passes)
     return out if np.ndim(lambda_k) else out[0]
 
 
 def grid_search(
-    global_pts: np.ndarray, local_pts: np.ndarray, neighbours: list[np.ndarray], points: np.ndarray, lambdas: np.ndarray
+    global_pts: np.ndarray,
+    local_pts: np.ndarray,
+    neighbours: list[np.ndarray],
+    points: np.ndarray,
+    lambdas: np.ndarray,
+    passes: int = PASSES,
 ) -> np.ndarray:
     """The grid search of Eq. (5) for the landmarks ``points`` and each of ``lambdas``, ``(L, P, 2)``."""
     index, count = pad_neighbours([neighbours[i] for i in points])
@@ -166,7 +174,7 @@ def grid_search(
     best_norm = vector_length(net_force(best[:, None], a_local, spring_force(best[:, None], a, b, count), lam))[:, 0]
     rows = np.arange(len(a))
     half = (hi - lo) / 2
-    for k in range(PASSES):
+    for k in range(passes):
         cand = first if k == 0 else grid(best, half, lo, hi)
         norms = vector_length(net_force(cand, a_local, springs if k == 0 else spring_force(cand, a, b, count), lam))
         j = norms.argmin(axis=1)

@@ -29,6 +29,10 @@ from .layout import Layout
 
 #: candidate elasticity ratios lambda_k = k_A' / k_N searched by Eq. (8).
 LAMBDAS = (0.0, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 5.0, 10.0, np.inf)
+#: passes of the elastic model's grid search (:data:`exprclone.elastic.PASSES`) for the candidates the metric compares:
+#: two place each point to a 64th of its window, a small part of a pixel of the 64-pixel crops; the lambda_k chosen
+#: is then solved in full.
+CANDIDATE_PASSES = 2
 
 
 @dataclass(frozen=True)
@@ -74,10 +78,18 @@ def db_metric(
     return np.exp(to_source) + omega_db * np.exp(to_global), to_source, to_global
 
 
-def render_crops(target_neutral: np.ndarray, mesh: warp.Mesh, candidates: list[np.ndarray], layout: Layout) -> np.ndarray:
-    """Aligned crops of the target photo warped to each candidate landmark set, ``(L, S, S)``."""
+def target_grey(target_neutral: np.ndarray, mesh: warp.Mesh, layout: Layout) -> tuple[np.ndarray, float]:
+    """The target photo in grey, shrunk near the crops' scale, and its scale (:func:`exprclone.eigenface.downscaled`):
+    what every candidate's crop is warped from, the same for every expression cloned onto it."""
+    return eigenface.downscaled(target_neutral, eigenface.crop_transform(mesh.points[: mesh.n_landmarks], layout))
+
+
+def render_crops(
+    target: np.ndarray | tuple[np.ndarray, float], mesh: warp.Mesh, candidates: list[np.ndarray], layout: Layout
+) -> np.ndarray:
+    """Aligned crops of the target photo (or its :func:`target_grey`) warped to each candidate landmark set, ``(L, S, S)``."""
     size = eigenface.CROP_SIZE
-    grey, scale = eigenface.downscaled(target_neutral, eigenface.crop_transform(mesh.points[: mesh.n_landmarks], layout))
+    grey, scale = target_grey(target, mesh, layout) if isinstance(target, np.ndarray) else target
     crops = []
     for landmarks in candidates:
         dst = mesh.control_points(lips.uncross(landmarks, layout))
@@ -88,7 +100,7 @@ def render_crops(target_neutral: np.ndarray, mesh: warp.Mesh, candidates: list[n
 
 
 def choose_lambda(
-    target_neutral: np.ndarray,
+    target_neutral: np.ndarray | tuple[np.ndarray, float],
     mesh: warp.Mesh,
     candidates: list[np.ndarray],
     lambdas: np.ndarray,
@@ -100,7 +112,8 @@ def choose_lambda(
     """Eq. (8): the candidate ``lambda_k`` of smallest DB.
 
     ``candidates[i]`` are the elastic landmarks for ``lambdas[i]``; ``lambdas[0]`` must
-    be 0, whose candidate is the global result ``I_target_gl``.
+    be 0, whose candidate is the global result ``I_target_gl``. ``target_neutral`` is the
+    target photo, or its :func:`target_grey`.
     """
     if lambdas[0] != 0:
         raise ValueError("the first candidate lambda_k must be 0 (the global warping result)")

@@ -21,6 +21,8 @@ dark cavity).
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import cv2
 import numpy as np
 from scipy.spatial import Delaunay
@@ -88,7 +90,7 @@ def fill_interior(
     final: np.ndarray,
     source: np.ndarray,
     source_landmarks: np.ndarray,
-    reference: Reference,
+    reference: Reference | Callable[[], Reference],
     layout: Layout,
     amount: float = 1.0,
 ) -> tuple[np.ndarray, np.ndarray | None]:
@@ -102,9 +104,9 @@ def fill_interior(
         Its landmarks.
     source : ndarray of shape (h, w, 3), uint8
         The source's expression photo, and ``source_landmarks`` its landmarks.
-    reference : Reference
+    reference : Reference, or a function that measures it
         The target's own photo (and the source's neutral photo), measured for the
-        tone, sharpness and noise match.
+        tone, sharpness and noise match: only when a paste is made, if it is a function.
     layout : Layout
     amount : float
         Share of the source's mouth motion transferred, at most 1 (expression strength,
@@ -121,6 +123,8 @@ def fill_interior(
     weight = fade_in(opening(final, layout), OPENING) * fade_in(opening(source_landmarks, layout), OPENING) * amount
     if weight == 0:
         return image, None
+    if callable(reference):
+        reference = reference()
     gain = tone_gain(source, source_landmarks, reference, layout)
     parts = interior(source, source_landmarks, layout, gain)
     shown = sum(int(part.sum()) for part in parts)

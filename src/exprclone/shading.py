@@ -17,12 +17,13 @@ only): what it removes is not expression.
 from __future__ import annotations
 
 import functools
+from dataclasses import dataclass
 
 import cv2
 import numpy as np
 from scipy import stats
 
-from . import raster
+from . import raster, warp
 from .layout import Layout
 
 #: source motion (inter-ocular distances) at which the ratio starts to count, and counts fully
@@ -38,10 +39,12 @@ CORE = 0.7
 #: Gaussian spread of skin colours, 1% (chromaticity) to 3% (with the luma) lies beyond 3,
 #: a hundredth of that beyond 5.
 OUTLIER_RANGE = (3.0, 5.0)
+#: a colour model (or the median change of hue) takes at least this many trusted pixels.
+MIN_PIXELS = 8
 
 
-def moved(shape: tuple[int, int], points: np.ndarray, motion: np.ndarray, triangles: np.ndarray, iod: float) -> np.ndarray:
-    """Where the expression moves the skin, in [0, 1] (``(H, W)`` float32).
+def moved(labelling: warp.Labelling, motion: np.ndarray, iod: float, shrink: int = 8) -> np.ndarray:
+    """Where the expression moves the skin, in [0, 1] (``(H, W)`` float32, the labelling's size).
 
     Each triangle of the mesh takes the mean of its corners' motion; the result is
     blurred by :data:`MOTION_SPREAD` and mapped linearly from 0 at ``MOTION_RANGE[0]``
@@ -54,48 +57,52 @@ def moved(shape: tuple[int, int], points: np.ndarray, motion: np.ndarray, triang
 
     Parameters
     ----------
-    shape : (H, W)
-    points : ndarray of shape (P, 2)
-        The mesh's control points in this frame.
+    labelling : warp.Labelling
+        The mesh's triangles in this frame (the ERI's warps label its grid so, :class:`exprclone.warp.Labelling`).
     motion : ndarray of shape (P,)
-        How far each moves in the source's expression, in inter-ocular distances.
-    triangles : ndarray of shape (T, 3)
+        How far each control point moves in the source's expression, in inter-ocular distances.
     iod : float
         Inter-ocular distance in this frame.
+    shrink : int
+        It is smooth at the scale of the spread: the triangles' values are averaged over blocks of this many pixels
+        a side, blurred there and enlarged.
     """
-    # smooth at the scale of the spread: drawn at an eighth of the resolution and enlarged
-    small = (max(1, shape[0] // 8), max(1, shape[1] // 8))
-    scale = np.array([small[1] / shape[1], small[0] / shape[0]])
-    out: np.ndarray = np.zeros(small, np.float32)
-    for corners, value in zip(triangles, motion[triangles].mean(1)):
-        raster.fill_polygon(out, points[corners] * scale, float(value))
-    out = cv2.GaussianBlur(out, (0, 0), max(MOTION_SPREAD * iod * scale.mean(), 0.5))
+    labels, triangles = labelling.labels, labelling.triangles
+    table = np.zeros(256 if labels.dtype == np.uint8 else len(triangles) + 1, np.float32)
+    table[1 : len(triangles) + 1] = motion[triangles].mean(1)
+    drawn = cv2.LUT(labels, table) if labels.dtype == np.uint8 else table[labels]
+    shrink = max(1, min(shrink, *labels.shape))
+    out = cv2.GaussianBlur(raster.shrink(drawn, shrink), (0, 0), max(MOTION_SPREAD * iod / shrink, 0.5))
     lo, hi = MOTION_RANGE
-    return np.clip((cv2.resize(out, (shape[1], shape[0]), interpolation=cv2.INTER_LINEAR) - lo) / (hi - lo), 0.0, 1.0)
+    return np.clip((raster.enlarge(out, labels.shape, shrink) - lo) / (hi - lo), 0.0, 1.0)
 
 
-def colour(image: np.ndarray, sigma: float, step: int = 1) -> np.ndarray:
-    """``(log(R/G), log(B/G), log(Y))`` smoothed by a Gaussian of ``sigma`` pixels, ``(h, w, 3)`` on the grid shrunk by ``step``.
+def colour(rgb: np.ndarray, sigma: float) -> np.ndarray:
+    """``(log(R/G), log(B/G), log(Y))`` of ``rgb`` (``(h, w, 3)`` float in [0, 1]) smoothed by a Gaussian of ``sigma`` pixels.
 
     The first two, the chromaticity, shading leaves unchanged (it scales the three
     channels alike) and a change of material changes; the third, the luma, tells dark
     hair from skin of much the same hue.
     """
-    rgb = cv2.GaussianBlur(raster.shrink(image, step).astype(np.float32) / 255.0, (0, 0), max(sigma / step, 0.5)) + raster.EPS
-    return np.dstack([np.log(rgb[..., [0, 2]] / rgb[..., 1:2]), np.log(rgb @ raster.LUMA)])
+    blurred = cv2.GaussianBlur(np.ascontiguousarray(rgb[..., :3], np.float32), (0, 0), max(sigma, 0.5)) + raster.EPS
+    return np.dstack([np.log(blurred[..., [0, 2]] / blurred[..., 1:2]), np.log(blurred @ raster.LUMA)])
 
 
-def robust_gaussian(values: np.ndarray, trusted: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+#: a robust Gaussian (:func:`robust_gaussian`): its centre and inverse covariance, None when too few pixels were trusted.
+Fit = tuple[np.ndarray, np.ndarray] | None
+
+
+def robust_gaussian(values: np.ndarray, trusted: np.ndarray) -> Fit:
     """Centre and inverse covariance of the k-vectors ``values`` (``(h, w, k)``) over the pixels ``trusted`` (flat indices).
 
     The centre is their median, the covariance that of the :data:`CORE` share nearest to
     it (hair, lips and a highlight on the face must not widen what counts as skin),
     divided by the share of a Gaussian's variance left in that core (its second moment
     there, ``P(chi2_{k+2} < q) / P(chi2_k < q)`` at the core's radius ``q``). None when
-    fewer than 8 pixels are trusted.
+    fewer than :data:`MIN_PIXELS` pixels are trusted.
     """
     face = values[np.unravel_index(trusted, values.shape[:2])]
-    if len(face) < 8:
+    if len(face) < MIN_PIXELS:
         return None
     k = values.shape[-1]
     centre = np.median(face, 0)
@@ -111,55 +118,80 @@ def core_variance(k: int) -> float:
 
 
 def fade_out(values: np.ndarray, centre: np.ndarray, inverse: np.ndarray) -> np.ndarray:
-    """1 where the Mahalanobis distance from ``centre`` is below ``OUTLIER_RANGE[0]``, 0 above ``OUTLIER_RANGE[1]``."""
-    d = values - centre
-    dist = np.sqrt(np.maximum(np.einsum("...i,ij,...j->...", d, inverse, d), 0.0))
+    """1 where the Mahalanobis distance from ``centre`` is below ``OUTLIER_RANGE[0]``, 0 above ``OUTLIER_RANGE[1]``.
+
+    ``values`` is an ``(h, w, k)`` image of k-vectors, ``centre`` ``(k,)``, ``inverse`` ``(k, k)``; the quadratic form
+    is taken in float32 by OpenCV (several times faster than numpy's einsum on an image).
+    """
+    d = np.ascontiguousarray(values - centre.astype(np.float32), np.float32)
+    squared = cv2.transform(cv2.multiply(cv2.transform(d, inverse.astype(np.float32)), d), np.ones((1, len(centre)), np.float32))
+    dist = np.sqrt(np.maximum(squared, 0.0))
     lo, hi = OUTLIER_RANGE
     return np.clip((hi - dist) / (hi - lo), 0.0, 1.0).astype(np.float32)
 
 
-def skin(images: tuple[np.ndarray, ...], weight: np.ndarray, sigma: float, step: int = 1, exempt: np.ndarray | None = None) -> np.ndarray:
-    """Trust that a pixel is the same skin in all of ``images``, in [0, 1], on the grid shrunk by ``step``.
+@dataclass(frozen=True)
+class Fits:
+    """The colour models of the photos that do not change between expressions (:func:`skin`): fitted once per pair of faces.
 
-    Each image's colour (:func:`colour`) is compared with its face's own, a Gaussian
-    fitted over ``weight`` (:func:`robust_gaussian`): hair, brows, lips, eyes, teeth, a
-    highlight and the background lie far from it in most people. The expression photo
-    is compared by its chromaticity alone, as the expression shades it; the neutral
-    photos by their luma too, which tells dark hair from skin of much the same hue. The
-    change of chromaticity between the source's photos is compared with the spread of
-    the neutral one's, its median taken out (a change of the light's colour): skin
-    whose hue changed as much as skin differs from what is not skin did not change by
-    shading.
+    Attributes
+    ----------
+    neutral, target : Fit
+        The source's neutral photo's colour and the target's, in three dimensions (:func:`colour`).
+    hue : Fit
+        The neutral photo's chromaticity alone (its first two), the spread a change of hue is compared with.
+    """
+
+    neutral: Fit
+    target: Fit
+    hue: Fit
+
+    @classmethod
+    def measure(cls, neutral: np.ndarray, neutral_face: np.ndarray, target: np.ndarray | None, target_face: np.ndarray) -> Fits:
+        """The models of the ``neutral`` and ``target`` colours (:func:`colour`), each over its own face (``(h, w)`` weights)."""
+        on_neutral = raster.evenly(neutral_face)
+        fit_target = None if target is None else robust_gaussian(target, raster.evenly(target_face))
+        return cls(robust_gaussian(neutral, on_neutral), fit_target, robust_gaussian(neutral[..., :2], on_neutral))
+
+
+def skin(colours: tuple[np.ndarray, ...], weight: np.ndarray, exempt: np.ndarray | None = None, fits: Fits | None = None) -> np.ndarray:
+    """Trust that a pixel is the same skin in all of the photos whose ``colours`` are given, in [0, 1].
+
+    Each photo's colour (:func:`colour`) is compared with its face's own, a Gaussian
+    (:func:`robust_gaussian`): hair, brows, lips, eyes, teeth, a highlight and the
+    background lie far from it in most people. The expression photo is compared by its
+    chromaticity alone, as the expression shades it; the neutral photos by their luma
+    too, which tells dark hair from skin of much the same hue. The change of
+    chromaticity between the source's photos is compared with the spread of the neutral
+    one's, its median taken out (a change of the light's colour): skin whose hue changed
+    as much as skin differs from what is not skin did not change by shading.
 
     Parameters
     ----------
-    images : tuple of ndarray of shape (H, W, 3), uint8 RGB
-        The source's neutral and expression photos warped alike, then any other neutral
-        photo in the same geometry (the target).
+    colours : tuple of ndarray of shape (h, w, 3)
+        The colours of the source's neutral and expression photos warped alike, then of
+        any other neutral photo in the same geometry (the target), on the shrunk grid.
     weight : ndarray of shape (h, w)
-        The trusted face on the shrunk grid.
-    sigma : float
-        The scale colours are compared at, in pixels of the full grid: the ratio's own
-        (:data:`exprclone.eri.FILTER_SIGMA` inter-ocular distances).
-    step : int
+        The trusted face; the expression's model is fitted there, and so are the others unless ``fits`` gives them.
     exempt : ndarray of shape (h, w), optional
-        Face that is trusted whatever its colour (:func:`lips`), on the shrunk grid.
+        Face that is trusted whatever its colour (:func:`lips`).
+    fits : Fits, optional
+        The neutral photos' models, fitted once on their own faces (:meth:`Fits.measure`).
 
     Returns
     -------
     ndarray of shape (h, w), float32
     """
     out, trusted = np.ones(weight.shape, np.float32), raster.evenly(weight)
-    colours = [colour(image, sigma, step) for image in images]
-    for i, c in enumerate(colours):
-        c = c[..., :2] if i == 1 else c
-        fit = robust_gaussian(c, trusted)
+    if fits is None:
+        fits = Fits.measure(colours[0], weight, colours[2] if len(colours) > 2 else None, weight)
+    models = (fits.neutral, robust_gaussian(colours[1][..., :2], trusted)) + ((fits.target,) if len(colours) > 2 else ())
+    for c, fit in zip(colours, models):
         if fit is not None:
-            out *= fade_out(c, *fit)
-    hue = robust_gaussian(colours[0][..., :2], trusted)
-    if hue is not None:
+            out *= fade_out(c[..., : len(fit[0])], *fit)
+    if fits.hue is not None and len(trusted) >= MIN_PIXELS:
         change = colours[1][..., :2] - colours[0][..., :2]
-        out *= fade_out(change, np.median(change[np.unravel_index(trusted, change.shape[:2])], 0), hue[1])
+        out *= fade_out(change, np.median(change[np.unravel_index(trusted, change.shape[:2])], 0), fits.hue[1])
     return out if exempt is None else np.maximum(out, exempt)
 
 

@@ -16,15 +16,22 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from . import elastic, eri, geometry, global_warp, local_warp, metric, shading, tps, warp
+from . import elastic, eri, geometry, global_warp, local_warp, metric, raster, shading, shrunk, tps, warp
 from .layout import Layout
 from .models import default_eigenfaces
+from .shrunk import Shrunk
 
 if TYPE_CHECKING:
     from .cloner import Cloner
 
 #: the face box the ERI is computed in: the moving control points' box grown by this many inter-ocular distances.
 ERI_MARGIN = 0.5
+#: each photo is shrunk for the ERI over its moving control points' box grown by this many inter-ocular distances:
+#: the ratio counts inside their hull only (:func:`exprclone.eri.ratio_mask`), and its filters reach 3 sigma
+#: (:data:`exprclone.eri.FILTER_SIGMA`) beyond; what lies further out is the box's edge repeated.
+PHOTO_MARGIN = 0.2
+#: where the expression moves the skin is drawn this many times smaller than the face box (:func:`exprclone.shading.moved`).
+MOTION_SHRINK = 8
 
 
 @dataclass(frozen=True)
@@ -106,12 +113,13 @@ def elastic_stage(cloner: Cloner, expression: Expression, shapes: dict[str, Shap
         chosen = float(expression.lambda_k)
         return Shape(elastic.elastic_landmarks(gl, local, cloner.neighbours, chosen), chosen)
     lambdas = np.array(metric.LAMBDAS)
-    candidates = list(elastic.elastic_landmarks(gl, local, cloner.neighbours, lambdas))
+    # the DB metric looks at 64-pixel crops: its candidates need no sub-pixel search (metric.CANDIDATE_PASSES)
+    candidates = list(elastic.elastic_landmarks(gl, local, cloner.neighbours, lambdas, metric.CANDIDATE_PASSES))
     eigenfaces = cloner.eigenfaces or default_eigenfaces()
     curve = metric.choose_lambda(
-        cloner.target_image, cloner.mesh, candidates, lambdas, expression.image, expression.points, eigenfaces, cloner.layout
+        cloner.db_target, cloner.mesh, candidates, lambdas, expression.image, expression.points, eigenfaces, cloner.layout
     )
-    return Shape(candidates[int(np.flatnonzero(lambdas == curve.best)[0])], curve.best, curve)
+    return Shape(elastic.elastic_landmarks(gl, local, cloner.neighbours, curve.best), curve.best, curve)
 
 
 #: the shape stages of :data:`exprclone.methods.SHAPES` by name, each computed from the ones before it.
@@ -123,20 +131,47 @@ SHAPE_STAGES: dict[str, Callable[[Cloner, Expression, dict[str, Shape]], Shape]]
 
 
 class ImageWarper(Protocol):
-    """An image warp of :data:`IMAGE_WARPERS`: ``image`` moved from control points ``src`` to ``dst`` of ``mesh``."""
+    """An image warp of :data:`IMAGE_WARPERS`: ``image`` moved from control points ``src`` to ``dst`` of ``mesh``.
+
+    ``labelling``, when given, is the output's pixels labelled by the mesh's triangles at ``dst``
+    (:class:`exprclone.warp.Labelling`), made once for several warps to the same points.
+    """
 
     def __call__(
-        self, image: np.ndarray, src: np.ndarray, dst: np.ndarray, mesh: warp.Mesh, out_shape: tuple[int, int] | None = None
+        self,
+        image: np.ndarray,
+        src: np.ndarray,
+        dst: np.ndarray,
+        mesh: warp.Mesh,
+        out_shape: tuple[int, int] | None = None,
+        labelling: warp.Labelling | None = None,
     ) -> np.ndarray: ...
 
 
-def mesh_warp(image: np.ndarray, src: np.ndarray, dst: np.ndarray, mesh: warp.Mesh, out_shape: tuple[int, int] | None = None) -> np.ndarray:
+def mesh_warp(
+    image: np.ndarray,
+    src: np.ndarray,
+    dst: np.ndarray,
+    mesh: warp.Mesh,
+    out_shape: tuple[int, int] | None = None,
+    labelling: warp.Labelling | None = None,
+) -> np.ndarray:
     """The piecewise-affine warp over the mesh's triangles (:func:`warp.warp`), the paper's."""
+    if labelling is not None:
+        return warp.sample(image, labelling.affine(src))
     return warp.warp(image, src, dst, mesh.triangles, out_shape)
 
 
-def tps_warp(image: np.ndarray, src: np.ndarray, dst: np.ndarray, mesh: warp.Mesh, out_shape: tuple[int, int] | None = None) -> np.ndarray:
-    """The thin-plate spline through the mesh's control points (:func:`tps.warp`), its grid refined by :func:`tps_refine`."""
+def tps_warp(
+    image: np.ndarray,
+    src: np.ndarray,
+    dst: np.ndarray,
+    mesh: warp.Mesh,
+    out_shape: tuple[int, int] | None = None,
+    labelling: warp.Labelling | None = None,
+) -> np.ndarray:
+    """The thin-plate spline through the mesh's control points (:func:`tps.warp`), its grid refined by :func:`tps_refine`
+    (it has no triangles: ``labelling`` is not used)."""
     return tps.warp(image, src, dst, out_shape, tps_refine(mesh))
 
 
@@ -149,31 +184,78 @@ def tps_refine(mesh: warp.Mesh) -> tuple[tuple[np.ndarray, int], ...]:
 IMAGE_WARPERS: dict[str, ImageWarper] = {"mesh": mesh_warp, "tps": tps_warp}
 
 
+@dataclass(frozen=True)
+class RatioFaces:
+    """What the ERI takes of the two neutral faces, the same for every expression: prepared once (:meth:`prepare`).
+
+    Attributes
+    ----------
+    neutral : Shrunk
+        The source's neutral photo on its shrunk grid (:class:`exprclone.shrunk.Shrunk`), over its face.
+    target : Shrunk
+        The target photo likewise, its colour only.
+    fits : shading.Fits
+        Their colour models, each fitted over its own face (:class:`exprclone.shading.Fits`).
+    iod : float
+        The source's inter-ocular distance in its photos: the scale its expression photos are shrunk at.
+    """
+
+    neutral: Shrunk
+    target: Shrunk
+    fits: shading.Fits
+    iod: float
+
+    @classmethod
+    def prepare(cls, mesh: warp.Mesh, source: np.ndarray, source_ctrl: np.ndarray, target: np.ndarray, layout: Layout) -> RatioFaces:
+        """Both neutral photos shrunk (the source's with the control points ``source_ctrl`` of ``mesh`` on it) and their colours fitted."""
+        photos, fits = [], []
+        for image, ctrl, detail in ((source, source_ctrl, True), (target, mesh.points, False)):
+            iod = geometry.interocular(ctrl[: mesh.n_landmarks], layout)
+            photo = Shrunk.of(image, ctrl[: mesh.n_moving], iod, eri.filter_step(iod), PHOTO_MARGIN * iod, detail)
+            at = shrunk.grid_points(ctrl - photo.origin, photo.step)
+            grid = photo.pixels.shape[:2]
+            face = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // photo.step))
+            sigma = eri.FILTER_SIGMA * iod / photo.step
+            if detail:  # where the texture test trusts it, as the ERI's fits are
+                face *= eri.texture(photo.pixels[..., shrunk.ENERGY], photo.pixels[..., shrunk.LUMA], sigma)
+            photos.append(photo)
+            fits += [shading.colour(photo.pixels, sigma), face]
+        return cls(photos[0], photos[1], shading.Fits.measure(*fits), geometry.interocular(source_ctrl[: mesh.n_landmarks], layout))
+
+    def expression(self, image: np.ndarray, ctrl: np.ndarray, mesh: warp.Mesh) -> Shrunk:
+        """A source expression photo, the control points ``ctrl`` of ``mesh`` on it, shrunk as its neutral photo is."""
+        return Shrunk.of(image, ctrl[: mesh.n_moving], self.iod, self.neutral.step, PHOTO_MARGIN * self.iod)
+
+
 def ratio_image(
     mesh: warp.Mesh,
     target: Rendered,
-    sources: tuple[np.ndarray, np.ndarray],
-    source_ctrl: list[np.ndarray],
+    faces: RatioFaces,
+    expression: Shrunk,
+    source_ctrl: tuple[np.ndarray, np.ndarray],
     motion: np.ndarray,
     layout: Layout,
     image_warp: ImageWarper = mesh_warp,
 ) -> tuple[np.ndarray, tuple[slice, slice]]:
     """The ERI of the source's two photos in the target's final geometry, warped by ``image_warp`` (:data:`IMAGE_WARPERS`).
 
-    The ratio is 1 off the face, so it is computed in the face's box only. It counts
+    The ratio is 1 off the face, so it is computed in the face's box only, on its grid
+    shrunk by :func:`exprclone.eri.filter_step`: the three photos, shrunk over their faces
+    (:class:`exprclone.shrunk.Shrunk`), are warped there (:func:`exprclone.eri.ratio_on_grid`). It counts
     only where the expression moves the skin and all three photos show the same skin
-    there (:func:`exprclone.eri.expression_ratio`, its ``mask`` times
-    :func:`exprclone.shading.moved`, the lips exempt from the colour test).
+    there (its ``mask`` times :func:`exprclone.shading.moved`, the lips exempt from the colour test).
 
     Parameters
     ----------
     mesh : warp.Mesh
     target : Rendered
         FI: the target photo warped to its final geometry, and that geometry's control points.
-    sources : tuple of two ndarray of shape (h, w, 3), uint8 RGB
-        The source's neutral and expression photos.
-    source_ctrl : list of two ndarray of shape (P, 2)
-        The control points in each of them.
+    faces : RatioFaces
+        The source's neutral photo and the target's, prepared.
+    expression : Shrunk
+        The source's expression photo, shrunk (:meth:`RatioFaces.expression`).
+    source_ctrl : tuple of two ndarray of shape (P, 2)
+        The control points in the source's neutral and expression photos.
     motion : ndarray of shape (P,)
         How far each control point moves in the source's expression (inter-ocular
         distances, head motion removed), for :func:`exprclone.shading.moved`.
@@ -191,12 +273,17 @@ def ratio_image(
     iod = geometry.interocular(dst[: mesh.n_landmarks], layout)
     rows, cols = box = geometry.box(dst[: mesh.n_moving], shape, ERI_MARGIN * iod, closed=False)
     size = (rows.stop - rows.start, cols.stop - cols.start)
+    step = min(eri.filter_step(iod), *size)
+    grid = (size[0] // step, size[1] // step)
     local = dst - (cols.start, rows.start)
-    # RGB, not the luma alone: the colour tells a change of material from shading
-    neutral, expression = (image_warp(img, c, local, mesh, size) for img, c in zip(sources, source_ctrl))
-    mask = eri.ratio_mask(size, local[: mesh.n_landmarks], local[mesh.forehead], layout)
-    mask *= shading.moved(size, local, motion, mesh.triangles, iod)
-    lip_region = shading.lips(size, local[: mesh.n_landmarks], layout)
+    at = shrunk.grid_points(local, step)
+    labelling = warp.Labelling.of(at, mesh.triangles, grid)  # one for the three warps and the motion's mask
+    photos = zip((faces.neutral, expression, faces.target), (*source_ctrl, mesh.points))
+    neutral, moved_photo, target_photo = (photo.warped(image_warp, ctrl, labelling, mesh) for photo, ctrl in photos)
+    mask = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // step))
+    mask *= shading.moved(labelling, motion, iod / step, max(1, MOTION_SHRINK // step))
+    lip_region = shading.lips(grid, at[: mesh.n_landmarks], layout)
+    small = eri.ratio_on_grid(neutral, moved_photo, target_photo, mask, iod / step, lip_region, faces.fits)
     out = np.ones(shape[:2], np.float32)
-    out[box] = eri.expression_ratio(neutral, expression, mask, iod, target.image[box], lip_region)
+    out[box] = raster.enlarge(small, size, step)
     return out, box

@@ -233,15 +233,68 @@ def strip_grid(rows: int, w: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 @dataclass(frozen=True)
+class Labelling:
+    """Which triangle each output pixel lies in: what a piecewise-affine warp takes of its destination alone.
+
+    Warps of several images to the same control points (the ERI's photos) label the
+    output once (:meth:`of`) and solve only their own affine maps (:meth:`affine`).
+
+    Attributes
+    ----------
+    labels : ndarray of shape (H, W)
+        For each output pixel, 1 + the index of its triangle in :attr:`triangles`; 0 outside every triangle.
+        uint8 with fewer than 256 labels (looked up by ``cv2.LUT``), int32 otherwise.
+    triangles : ndarray of shape (T, 3)
+        The triangles that reach into the output, in the order they were drawn (a later one takes a shared edge).
+    dst : ndarray of shape (N, 2)
+        The control points in the output.
+    """
+
+    labels: np.ndarray
+    triangles: np.ndarray
+    dst: np.ndarray
+
+    @classmethod
+    def of(cls, dst: np.ndarray, triangles: np.ndarray, out_shape: tuple[int, int]) -> Labelling:
+        """Label the pixels of an output of ``out_shape`` (H, W) by the triangle of ``dst`` (``(N, 2)``) each lies in."""
+        h, w = out_shape
+        dst = np.asarray(dst, float)
+        # triangles wholly outside the output label no pixel (fillConvexPoly clips them)
+        lo, hi = dst[triangles].min(axis=1), dst[triangles].max(axis=1)
+        triangles = triangles[(hi[:, 0] >= -1) & (lo[:, 0] <= w) & (hi[:, 1] >= -1) & (lo[:, 1] <= h)]
+        labels = np.zeros(out_shape, np.uint8 if len(triangles) < 256 else np.int32)
+        shift = 4
+        fixed = np.round(dst[triangles] * (1 << shift)).astype(np.int32)
+        for label, tri in enumerate(fixed, 1):
+            cv2.fillConvexPoly(labels, tri, label, cv2.LINE_8, shift)
+        return cls(labels, triangles, dst)
+
+    def affine(self, src: np.ndarray) -> PiecewiseAffine:
+        """The warp from control points ``src`` (``(N, 2)``, in the source image) to :attr:`dst` over these labels."""
+        triangles, dst = self.triangles, self.dst
+        d = np.concatenate([dst[triangles], np.ones((len(triangles), 3, 1))], axis=2)
+        # Affine dst -> src per triangle: d @ coeffs = src. Slivers of (almost) no area,
+        # such as the slit between closed lips, get the least-squares map of pinv.
+        src = np.asarray(src, float)
+        solvable = np.abs(signed_areas(dst, triangles)) > 1e-6
+        coeffs = np.empty((len(triangles), 3, 2))
+        coeffs[solvable] = np.linalg.solve(d[solvable], src[triangles[solvable]])
+        if not solvable.all():
+            coeffs[~solvable] = np.linalg.pinv(d[~solvable]) @ src[triangles[~solvable]]
+        coeffs = np.concatenate([np.full((1, 3, 2), -1e6), coeffs])
+        if self.labels.dtype == np.uint8:
+            coeffs = np.resize(coeffs, (256, 3, 2))  # a full table for cv2.LUT
+        return PiecewiseAffine(self.labels, coeffs)
+
+
+@dataclass(frozen=True)
 class PiecewiseAffine:
     """The inverse map of a triangle mesh, ready to be evaluated strip by strip.
 
     Attributes
     ----------
     labels : ndarray of shape (H, W)
-        For each output pixel, its triangle's label (1 + its index among the triangles
-        that reach into the output); 0 outside every triangle.
-        uint8 with fewer than 256 labels (looked up by ``cv2.LUT``), int32 otherwise.
+        Each output pixel's triangle (:attr:`Labelling.labels`).
     coeffs : ndarray of shape (L, 3, 2)
         Per label, the affine map output -> source: ``[x y 1] @ coeffs[label] = [u v]``.
         Label 0 maps far outside the source. ``L = 256`` for uint8 labels, ``T + 1`` otherwise.
@@ -251,7 +304,7 @@ class PiecewiseAffine:
     coeffs: np.ndarray
 
     @classmethod
-    def build(cls, src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_shape: tuple[int, int]) -> "PiecewiseAffine":
+    def build(cls, src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_shape: tuple[int, int]) -> PiecewiseAffine:
         """Label the output pixels by triangle and solve each triangle's affine map.
 
         Parameters
@@ -261,27 +314,7 @@ class PiecewiseAffine:
         triangles : ndarray of shape (T, 3)
         out_shape : (H, W)
         """
-        h, w = out_shape
-        # triangles wholly outside the output label no pixel (fillConvexPoly clips them)
-        lo, hi = dst[triangles].min(axis=1), dst[triangles].max(axis=1)
-        triangles = triangles[(hi[:, 0] >= -1) & (lo[:, 0] <= w) & (hi[:, 1] >= -1) & (lo[:, 1] <= h)]
-        d = np.concatenate([dst[triangles], np.ones((len(triangles), 3, 1))], axis=2)
-        # Affine dst -> src per triangle: d @ coeffs = src. Slivers of (almost) no area,
-        # such as the slit between closed lips, get the least-squares map of pinv.
-        solvable = np.abs(signed_areas(dst, triangles)) > 1e-6
-        coeffs = np.empty((len(triangles), 3, 2))
-        coeffs[solvable] = np.linalg.solve(d[solvable], src[triangles[solvable]])
-        if not solvable.all():
-            coeffs[~solvable] = np.linalg.pinv(d[~solvable]) @ src[triangles[~solvable]]
-        coeffs = np.concatenate([np.full((1, 3, 2), -1e6), coeffs])
-        labels = np.zeros(out_shape, np.uint8 if len(coeffs) <= 256 else np.int32)
-        if labels.dtype == np.uint8:
-            coeffs = np.resize(coeffs, (256, 3, 2))  # a full table for cv2.LUT
-        shift = 4
-        fixed = np.round(dst[triangles] * (1 << shift)).astype(np.int32)
-        for label, tri in enumerate(fixed, 1):
-            cv2.fillConvexPoly(labels, tri, label, cv2.LINE_8, shift)
-        return cls(labels, coeffs)
+        return Labelling.of(dst, triangles, out_shape).affine(src)
 
     def strip_maps(self) -> Iterator[tuple[slice, np.ndarray, np.ndarray]]:
         """``(rows, map_x, map_y)`` for ``cv2.remap``, strip by strip of :data:`STRIP` output rows.
@@ -330,7 +363,7 @@ def inverse_maps(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, out_sh
     map_x, map_y : ndarray of shape (H, W), float32
         Pixels outside every triangle map outside the source (border handling of remap).
     """
-    pa = PiecewiseAffine.build(np.asarray(src, float), np.asarray(dst, float), triangles, out_shape)
+    pa = PiecewiseAffine.build(src, dst, triangles, out_shape)
     map_x, map_y = np.empty(out_shape, np.float32), np.empty(out_shape, np.float32)
     for rows, strip_x, strip_y in pa.strip_maps():
         map_x[rows], map_y[rows] = strip_x, strip_y
@@ -365,9 +398,12 @@ def warp(
     True
     """
     out_shape = tuple(image.shape[:2] if out_shape is None else out_shape)
-    pa = PiecewiseAffine.build(np.asarray(src, float), np.asarray(dst, float), triangles, out_shape)
-    out = np.empty(out_shape + image.shape[2:], image.dtype)
+    return sample(image, PiecewiseAffine.build(src, dst, triangles, out_shape))
 
+
+def sample(image: np.ndarray, pa: PiecewiseAffine) -> np.ndarray:
+    """``image`` sampled through the map ``pa`` (bilinear, the border repeated), at the size of its labels."""
+    out = np.empty(pa.labels.shape + image.shape[2:], image.dtype)
     for rows, map_x, map_y in pa.strip_maps():
         cv2.remap(image, map_x, map_y, cv2.INTER_LINEAR, dst=out[rows], borderMode=cv2.BORDER_REPLICATE)
     return out
