@@ -186,7 +186,8 @@ def expression_ratio(
 
     colour = None if target is None else raster.shrink(target, step).astype(np.float32) / 255.0
     lips = None if exempt is None else raster.shrink(exempt, step)
-    small = ratio_on_grid(on_grid(neutral_warped), on_grid(expression_warped), colour, raster.shrink(mask, step), iod / step, lips)
+    photos = on_grid(neutral_warped), on_grid(expression_warped)
+    small = ratio_on_grid(*photos, colour, raster.shrink(mask, step), iod / step, lips, blocks=step > 1)
     return raster.enlarge(small, mask.shape, step)
 
 
@@ -198,6 +199,7 @@ def ratio_on_grid(
     iod: float,
     exempt: np.ndarray | None = None,
     fits: shading.Fits | None = None,
+    blocks: bool = True,
 ) -> np.ndarray:
     """The ERI on the shrunk grid, from the three photos' block means there (:attr:`exprclone.shrunk.Shrunk.pixels`).
 
@@ -221,6 +223,8 @@ def ratio_on_grid(
     exempt : ndarray of shape (h, w), optional
     fits : shading.Fits, optional
         The colour models of the neutral photos, fitted once (:class:`exprclone.shading.Fits`); fitted here if None.
+    blocks : bool
+        Whether the grid's pixels are blocks of several, to be enlarged (:data:`GRID_VARIANCE`), or the photo's own.
 
     Returns
     -------
@@ -235,8 +239,7 @@ def ratio_on_grid(
     face = mask * np.minimum(*textures)
     colours = tuple(shading.colour(image, sigma) for image in (neutral, expression) + (() if target is None else (target,)))
     weight = face * shading.skin(colours, face, exempt, fits)
-    # the grid's blocks and the bilinear enlargement smooth the ratio as well (variance 1/12 + 1/6 of a block each way)
-    sigma = max(np.sqrt(max(sigma * sigma - GRID_VARIANCE, 0.0)), 0.5)
+    sigma = max(np.sqrt(max(sigma * sigma - (GRID_VARIANCE if blocks else 0.0), 0.0)), 0.5)
     ratio = cv2.GaussianBlur(weight * ratio, (0, 0), sigma) / np.maximum(cv2.GaussianBlur(weight, (0, 0), sigma), 1e-6)
     ratio = np.clip(ratio / np.exp(light_trend(np.log(np.maximum(ratio, 1e-3)), weight)), *CLAMP)
     result: np.ndarray = 1.0 + weight * (ratio - 1.0)

@@ -283,7 +283,7 @@ def ratio_image(
     mask = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // step))
     mask *= shading.moved(labelling, motion, iod / step, max(1, MOTION_SHRINK // step))
     lip_region = shading.lips(grid, at[: mesh.n_landmarks], layout)
-    small = eri.ratio_on_grid(neutral, moved_photo, target_photo, mask, iod / step, lip_region, faces.fits)
+    small = eri.ratio_on_grid(neutral, moved_photo, target_photo, mask, iod / step, lip_region, faces.fits, step > 1)
     out = np.ones(shape[:2], np.float32)
     out[box] = raster.enlarge(small, size, step)
     return out, box
