@@ -333,3 +333,20 @@ def test_evaluate_refuses_an_expression_made_from_everyone(london, tmp_path):
     every = write(replace(made, name="everyone", people=("001", "003", "126")), tmp_path)
     p = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global", "--expression", every, "--out", tmp_path / "report")
     assert p.returncode == 2 and "--expression: every person in" in p.stderr and "helped make everyone" in p.stderr
+
+
+@pytest.mark.parametrize(
+    "flag, value, expected",
+    [
+        ("--max-jobs", "0", "--max-jobs: expected at least 1, got 0"),
+        ("--job-ttl", "nan", "--job-ttl: expected at least 1 s, got nan"),
+        ("--max-megapixels", "-1", "--max-megapixels: expected at least 0.001 megapixels, got -1"),
+        ("--max-live", "-1", "--max-live: expected at least 0, got -1"),
+        ("--video-workers", "0", "--video-workers: expected at least 1, got 0"),
+        ("--keep-alive", "0", "--keep-alive: expected at least 0.001 s, got 0"),
+        ("--workers", "0", "--workers: expected at least 1, got 0"),
+    ],
+)
+def test_serve_refuses_bad_bounds_before_it_starts(flag, value, expected):
+    r = run("serve", "--port", "1", flag, value)
+    assert r.returncode == 2 and r.stderr.strip() == f"exprclone: error: {expected}" and r.stdout == ""

@@ -13,6 +13,8 @@ import numpy as np
 import pytest
 from PIL import Image
 from server import Server
+from websockets.exceptions import ConnectionClosed
+from websockets.sync.client import connect
 
 import exprclone
 import exprclone.models
@@ -262,11 +264,23 @@ def test_no_cross_origin_calls_unless_asked(client):
 
 
 def test_limits_upload_size_and_work_queue():
-    """413 over the upload limit (declared, or streamed without a length); 503 with Retry-After when the queue is full."""
-    small = Server("--workers", "1", "--queue", "0", "--max-upload-mb", "1")
+    """413 over the upload limit (declared, or streamed without a length); 503 with Retry-After when the queue is full;
+    serve's bounds on photos and live sessions as its flags set them."""
+    small = Server("--workers", "1", "--queue", "0", "--max-upload-mb", "1", "--max-megapixels", "1.9", "--max-live", "0")
     try:
         big = files(target_neutral=("big.jpg", os.urandom(1_200_000)))
+        wide = io.BytesIO()
+        Image.new("RGB", (1400, 1400), (128, 100, 90)).save(wide, "JPEG")  # 1.96 megapixels, a small file
+        with connect(small.url.replace("http", "ws") + "/api/live") as live:
+            live.send('{"type": "start"}')
+            assert json.loads(live.recv())["error"] == "live: live mode is off on this server (serve --max-live 0)"
+            with pytest.raises(ConnectionClosed) as closed:
+                live.recv()
+            assert closed.value.rcvd.code == 1008
         with httpx.Client(base_url=small.url, timeout=120) as c:
+            r = c.post("/api/clone", files=files(target_neutral=("wide.jpg", wide.getvalue())))
+            expected = "target_neutral: image is too large (1400x1400 pixels; at most 1.9 megapixels)"
+            assert r.status_code == 400 and r.json()["error"] == expected
             r = c.post("/api/clone", files=big)
             assert r.status_code == 413 and r.json()["error"].startswith("upload too large")
             upload = httpx.Request("POST", "/", files=big)  # the same upload, streamed in chunks with no length

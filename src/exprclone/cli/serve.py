@@ -9,24 +9,46 @@ its request slowly: a public deployment puts a reverse proxy in front (``deploy/
 from __future__ import annotations
 
 import argparse
-import os
 
 from ..errors import ExprCloneError
+from ..server.settings import Settings
 
 #: WebSocket messages a connection may have waiting (each at most an upload's size): the live session keeps only the newest frame.
 WS_QUEUE = 4
+#: serve's bounds: flag -> (type, least value, unit, help); each but uvicorn's two (:data:`UVICORN`) is a field of
+#: :class:`exprclone.server.settings.Settings` (``--max-megapixels`` its ``max_pixels`` in millions) and takes its default.
+BOUNDS: dict[str, tuple[type, float, str, str]] = {
+    "workers": (int, 1, "", "processes that clone"),
+    "queue": (int, 0, "", "requests that may wait for a worker; more are refused with 503"),
+    "max-upload-mb": (float, 0.001, " MB", "largest request"),
+    "max-megapixels": (float, 0.001, " megapixels", "largest photo, read from its header before it is decoded"),
+    "max-connections": (int, 1, "", "connections and requests at once; more are refused with 503"),
+    "keep-alive": (float, 0.001, " s", "how long an idle keep-alive connection is kept open"),
+    "max-jobs": (int, 1, "", "video jobs kept at once (queued, running, or done and not yet expired); more are refused with 503"),
+    "job-ttl": (float, 1, " s", "how long a finished video job's result is kept"),
+    "video-workers": (int, 1, "", "processes that run video jobs"),
+    "max-live": (int, 0, "", "live sessions at once, each in a process of its own; 0 turns live mode off"),
+}
+#: the defaults of uvicorn's bounds.
+UVICORN = {"max-connections": 64, "keep-alive": 5.0}
+
+
+def default(flag: str) -> float:
+    """The default of one of :data:`BOUNDS`."""
+    if flag in UVICORN:
+        return UVICORN[flag]
+    if flag == "max-megapixels":
+        return Settings.max_pixels / 1e6
+    value: float = getattr(Settings, flag.replace("-", "_"))
+    return value
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     s = sub.add_parser("serve", help="serve the web page and the HTTP API")
     add_address(s)
-    s.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes that clone (default: the number of cores)")
-    s.add_argument("--queue", type=int, default=8, help="requests that may wait for a worker; more are refused with 503 (default: 8)")
-    s.add_argument("--max-upload-mb", type=float, default=20.0, help="largest request, in MB (default: 20)")
-    s.add_argument(
-        "--max-connections", type=int, default=64, help="connections and requests at once; more are refused with 503 (default: 64)"
-    )
-    s.add_argument("--keep-alive", type=float, default=5.0, help="seconds an idle keep-alive connection is kept open (default: 5)")
+    for flag, (kind, minimum, unit, text) in BOUNDS.items():
+        shown = "the number of cores" if flag == "workers" else f"{default(flag):g}{unit}"  # not the build machine's count
+        s.add_argument(f"--{flag}", type=kind, default=default(flag), help=f"{text} (default: {shown})")
     s.add_argument("--cors", action="append", default=[], metavar="ORIGIN", help="let pages from ORIGIN call the API (repeatable)")
 
 
@@ -39,19 +61,15 @@ def add_address(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> None:
     import uvicorn
 
-    from ..server.app import Settings, create_app
+    from ..server.app import create_app
 
-    if args.workers < 1:
-        raise ExprCloneError("--workers", f"expected at least 1, got {args.workers}")
-    if args.queue < 0:
-        raise ExprCloneError("--queue", f"expected 0 or more, got {args.queue}")
-    if args.max_upload_mb <= 0:
-        raise ExprCloneError("--max-upload-mb", f"expected a positive size, got {args.max_upload_mb:g}")
-    if args.max_connections < 1:
-        raise ExprCloneError("--max-connections", f"expected at least 1, got {args.max_connections}")
-    if not args.keep_alive > 0:
-        raise ExprCloneError("--keep-alive", f"expected a positive number of seconds, got {args.keep_alive:g}")
-    settings = Settings(workers=args.workers, queue=args.queue, max_upload_mb=args.max_upload_mb, cors=tuple(args.cors))
+    for flag, (_, minimum, unit, _) in BOUNDS.items():
+        value = getattr(args, flag.replace("-", "_"))
+        if not value >= minimum:  # NaN too
+            raise ExprCloneError(f"--{flag}", f"expected at least {minimum:g}{unit}, got {value:g}")
+    fields = {flag.replace("-", "_"): getattr(args, flag.replace("-", "_")) for flag in BOUNDS if flag not in UVICORN}
+    fields["max_pixels"] = round(fields.pop("max_megapixels") * 1e6)
+    settings = Settings(**fields, cors=tuple(args.cors))
     print(f"exprclone: serving on http://{args.host}:{args.port}/ ({args.workers} workers; Ctrl-C to stop)", flush=True)
     uvicorn.run(
         create_app(settings),

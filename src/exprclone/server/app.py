@@ -13,14 +13,12 @@ import asyncio
 import contextlib
 import logging
 import multiprocessing
-import os
 import shutil
 import tempfile
 import warnings
 from collections.abc import AsyncIterator, Callable
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Annotated, Any, TypeVar
@@ -40,47 +38,10 @@ from . import work
 from .jobs import Jobs, NoSuchJob
 from .limits import Busy, Gate, UploadLimit
 from .openapi import document
+from .settings import Settings
 
 log = logging.getLogger("exprclone.server")
 T = TypeVar("T")
-
-
-@dataclass(frozen=True)
-class Settings:
-    """How the server runs.
-
-    Attributes
-    ----------
-    workers : int
-        Processes that clone (each loads the models once).
-    queue : int
-        Requests that may wait for a worker beyond those at work; more are refused (503).
-    max_upload_mb : float
-        The largest request body.
-    max_pixels : int
-        The largest photo, in pixels (checked before it is decoded).
-    max_jobs : int
-        Video jobs kept at once (queued, running, or done and not yet expired).
-    job_ttl : float
-        Seconds a finished job's result is kept.
-    video_workers : int
-        Processes that run video jobs (apart from the clone workers, so that a long video does not hold up clones).
-    max_live : int
-        Live sessions at once (:mod:`exprclone.server.live`; each renders in a process of its own,
-        :mod:`exprclone.server.rendering`).
-    cors : tuple of str
-        Origins allowed to call the API from other pages (none by default).
-    """
-
-    workers: int = os.cpu_count() or 1
-    queue: int = 8
-    max_upload_mb: float = 20.0
-    max_pixels: int = 25_000_000
-    max_jobs: int = 8
-    job_ttl: float = 3600.0
-    video_workers: int = 1
-    max_live: int = 2
-    cors: tuple[str, ...] = ()
 
 
 class Work:

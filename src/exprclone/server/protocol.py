@@ -143,6 +143,8 @@ class Slots:
     def take(self) -> None:
         """A slot for this connection, or :class:`Misuse` (try again later) when every one is taken."""
         limit = self.work.settings.max_live
+        if limit == 0:
+            raise Misuse("live", "live mode is off on this server (serve --max-live 0)", POLICY)
         if self.work.live_sessions >= limit:
             raise Misuse("live", f"{limit} sessions are running already; try again later", TRY_LATER)
         self.work.live_sessions += 1
