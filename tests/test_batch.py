@@ -230,3 +230,18 @@ def test_a_built_in_expression_on_a_folder_of_portraits(tmp_path):
 def test_a_built_in_expression_in_the_wrong_company_is_one_line(tmp_path, args, message):
     p = run(*args, cwd=tmp_path)
     assert p.returncode == 2 and p.stderr.startswith(f"exprclone: error: {message}") and len(p.stderr.strip().splitlines()) == 1
+
+
+def test_rows_whose_source_photos_look_swapped_are_warned_in_the_report(tmp_path):
+    """The role check clone makes (exprclone.role_check) on each row: the clone is made, the report says what looked wrong."""
+    swapped = [samples.path("126", "smile"), samples.path("126"), samples.path("003"), "swapped.png"]
+    right = [samples.path("126"), samples.path("126", "smile"), samples.path("003"), "right.png"]
+    path = tmp_path / "manifest.csv"
+    path.write_text("\n".join([HEADER, ",".join(map(str, swapped)), ",".join(map(str, right))]) + "\n")
+    p = run(path, "--method", "global")
+    assert p.returncode == 0, p.stderr
+    assert "exprclone: warning: 1 rows' source photos look wrong (swapped, or two people): see the report" in p.stderr
+    warned = {Path(r["output"]).name: (r["status"], r["warnings"]) for r in report(tmp_path)}
+    assert warned["right.png"] == ("done", "")
+    assert warned["swapped.png"][0] == "done" and "are the source's two photos swapped?" in warned["swapped.png"][1]
+    assert (tmp_path / "swapped.png").exists()

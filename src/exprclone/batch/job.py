@@ -45,7 +45,7 @@ CONNECT_TIMEOUT = 10
 #: how a backend runs tasks: ``map(function, items)`` gives ``(index, result)`` as results come.
 Map = Callable[[Callable[[Any], Any], list[Any]], Iterator[tuple[int, Any]]]
 #: the report's columns.
-REPORT = ("row", *COLUMNS, "status", "error", "lambda_k", "seconds")
+REPORT = ("row", *COLUMNS, "status", "error", "lambda_k", "seconds", "warnings")
 
 
 def _ignore_interrupt() -> None:
@@ -237,7 +237,7 @@ def write_report(path: str, rows: list[Row], outcomes: dict[int, work.Outcome]) 
         for row in rows:
             o = outcomes.get(row.number, work.Outcome(row.number, "not run"))
             lam = "" if o.lambda_k is None else f"{o.lambda_k:g}"
-            writer.writerow([row.number, *row.photos, row.output, o.status, o.error, lam, f"{o.seconds:.3f}"])
+            writer.writerow([row.number, *row.photos, row.output, o.status, o.error, lam, f"{o.seconds:.3f}", "; ".join(o.warnings)])
         text.flush()
         text.detach()
 

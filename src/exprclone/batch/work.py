@@ -63,13 +63,15 @@ class Task:
 
 @dataclass(frozen=True)
 class Outcome:
-    """What became of a row: ``done`` or ``failed`` (with the one-line error), its lambda_k and its seconds."""
+    """What became of a row: ``done`` or ``failed`` (with the one-line error), its lambda_k, its seconds, and what looked
+    wrong with its source's photos (:func:`exprclone.role_check.judge_roles`)."""
 
     number: int
     status: str
     error: str = ""
     lambda_k: float | None = None
     seconds: float = 0.0
+    warnings: tuple[str, ...] = ()
 
 
 @functools.cache
@@ -125,6 +127,7 @@ def clone_rows(task: Task) -> list[Outcome]:
 
 def _clone_row(cloner: Cloner, row: Row, task: Task, start: float) -> Outcome:
     """One row on the prepared faces: its expression cloned by its method, the output written."""
+    from .. import role_check
     from ..checks import parse_lambda
     from ..io.images import load_image, save_image
     from ..methods import lookup
@@ -136,10 +139,13 @@ def _clone_row(cloner: Cloner, row: Row, task: Task, start: float) -> Outcome:
             lookup((method,))
             lambda_k = parse_lambda(row.lambda_k if row.lambda_k is not None else task.options.lambda_k)
             expression = load_image(row.source_expression)
-            result = cloner.clone_methods(expression, task.landmarks[row.source_expression], (method,), lambda_k, mouth=task.options.mouth)
+            points = task.landmarks[row.source_expression]
+            result = cloner.clone_methods(expression, points, (method,), lambda_k, mouth=task.options.mouth)
             save_image(row.output, result[method].image, inputs=row.photos)
+            source = role_check.Photo(cloner.source_image, cloner.s_neu), role_check.Photo(expression, points)
+            said = tuple(role_check.judge_roles(*source, cloner.layout))
     except ExprCloneError as e:
         return Outcome(row.number, "failed", str(e), seconds=time.perf_counter() - start)
     except Exception as e:  # a bug, not the input's fault: the row fails, the job goes on
         return Outcome(row.number, "failed", f"internal error ({type(e).__name__}: {e})", seconds=time.perf_counter() - start)
-    return Outcome(row.number, "done", "", result[method].lambda_k, time.perf_counter() - start)
+    return Outcome(row.number, "done", "", result[method].lambda_k, time.perf_counter() - start, said)

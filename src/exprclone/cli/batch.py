@@ -39,7 +39,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     b.add_argument("--cache", metavar="DIR", help="keep the photos' landmarks here between runs (by the photos' content)")
     b.add_argument("--overwrite", action="store_true", help="redo rows whose output exists (default: skip them)")
     b.add_argument(
-        "--report", metavar="REPORT.csv", help="one row per manifest row: status, error, lambda_k, seconds (default: OUT/report.csv)"
+        "--report",
+        metavar="REPORT.csv",
+        help="one row per manifest row: status, error, lambda_k, seconds, warnings (default: OUT/report.csv)",
     )
 
 
@@ -111,6 +113,9 @@ def run(args: argparse.Namespace) -> None:
     job.write_report(report, rows, outcomes)
     counts = {status: sum(o.status == status for o in outcomes.values()) for status in ("done", "skipped", "failed")}
     done = f"{counts['done']} done, {counts['skipped']} skipped (output already there), {counts['failed']} failed"
+    warned = sum(bool(o.warnings) for o in outcomes.values())
+    if warned:  # as clone says them on stderr, but once for the job: the report has each row's
+        print(f"exprclone: warning: {warned} rows' source photos look wrong (swapped, or two people): see the report", file=sys.stderr)
     print(f"{len(rows)} rows: {done}; report: {report}")
     if counts["failed"]:
         raise SystemExit(EXIT_SOME_FAILED)
