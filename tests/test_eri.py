@@ -114,6 +114,11 @@ def test_shrink_then_enlarge_keeps_a_smooth_image(shape):
     assert back.shape == shape
     assert np.abs(back - smooth)[3:-3, 3:-3].max() < 0.02  # bilinear error of a curve 11 pixels wide
     assert np.abs(back - smooth).max() < 0.3  # the edge, repeated
+    h, w = small.shape[0] * 3, small.shape[1] * 3
+    assert (back[h:] == back[h - 1]).all() and (back[:, w:] == back[:, w - 1 : w]).all()  # the left-out edge, exactly
+    colour = raster.enlarge(np.dstack([small, 2 * small]), shape, 3)
+    assert colour.shape == (*shape, 2)  # each channel alike (OpenCV's paths for 1 and 2 channels round apart by an ulp)
+    assert np.allclose(colour[..., 0], back, atol=1e-6) and np.allclose(colour[..., 1], 2 * back, atol=1e-6)
 
 
 def face_frame(pair):
