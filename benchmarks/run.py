@@ -34,7 +34,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from exprclone import METHODS, clone, clone_methods, elastic, eri, geometry, global_warp, local_warp, metric, muscle, tps, warp
+from exprclone import METHODS, clone, clone_methods, elastic, global_warp, local_warp, metric, muscle, tps, warp
+from exprclone import stages as stages_
+from exprclone.cloner import Cloner
 from exprclone.io.images import load_image
 from exprclone.layout import DLIB68
 from exprclone.models import default_detector, default_eigenfaces
@@ -74,19 +76,21 @@ def photos(data: Path, size: int) -> tuple[list[np.ndarray], list[np.ndarray]]:
 
 
 def stages(images, lms, repeat: int) -> dict[str, float]:
+    """Each stage as clone runs it: the shape stages and the details on a Cloner's prepared faces."""
     sn_img, se_img, tn_img = images
     sn, se, tn = lms
-    mesh = warp.build_mesh(tn, tn_img.shape, DLIB68)
-    gl = global_warp.global_landmarks(sn, se, tn, DLIB68)
-    lo = local_warp.local_landmarks(gl, se, DLIB68)
-    nb = mesh.neighbours()
-    lambdas = np.array(metric.LAMBDAS)
-    cands = [elastic.elastic_landmarks(gl, lo, nb, lam) for lam in lambdas]
+    cloner = Cloner(sn_img, sn, tn_img, tn)
+    expression = cloner.expression(se_img, se, "auto")
+    shapes = cloner.shapes(expression, {"elastic"})
+    gl, lo, nb = shapes["global"].points, shapes["local"].points, cloner.neighbours
+    mesh, lambdas = cloner.mesh, np.array(metric.LAMBDAS)
+    rendered = cloner.render(shapes["elastic"].points)
     dst = mesh.control_points(gl)
-    iod = geometry.interocular(gl, DLIB68)
-    mask = eri.ratio_mask(tn_img.shape[:2], gl, dst[mesh.forehead], DLIB68)
     centres, radii = muscle.areas(gl, DLIB68)
     h = np.ones(len(centres))
+    before = {name: shapes[name] for name in ("global", "local")}
+    cands = list(elastic.elastic_landmarks(gl, lo, nb, lambdas, metric.CANDIDATE_PASSES))
+    cloner.ratio_faces  # the neutral faces prepared, once per pair
     return {
         "landmark detection (1 photo)": median_ms(lambda: default_detector().detect(tn_img), repeat),
         "mesh": median_ms(lambda: warp.build_mesh(tn, tn_img.shape, DLIB68), repeat),
@@ -94,20 +98,18 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
         "global RBF (landmarks, Jacobians included)": median_ms(lambda: global_warp.rbf_landmarks(sn, se, tn, DLIB68), repeat),
         "local (landmarks)": median_ms(lambda: local_warp.local_landmarks(gl, se, DLIB68), repeat),
         "elastic (1 lambda)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, 1.0), repeat),
-        "elastic (13 lambdas at once, as clone does)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, lambdas), repeat),
-        "lambda search (13 candidates + DB)": median_ms(
-            lambda: metric.choose_lambda(
-                tn_img, mesh, list(elastic.elastic_landmarks(gl, lo, nb, lambdas)), lambdas, se_img, se, default_eigenfaces(), DLIB68
-            ),
-            repeat,
+        "elastic (13 lambdas at once, every pass)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, lambdas), repeat),
+        "lambda search (13 candidates + DB + the chosen solved)": median_ms(
+            lambda: stages_.elastic_stage(cloner, expression, before), repeat
         ),
         "  of which DB on given candidates": median_ms(
-            lambda: metric.choose_lambda(tn_img, mesh, cands, lambdas, se_img, se, default_eigenfaces(), DLIB68), repeat
+            lambda: metric.choose_lambda(cloner.db_target, mesh, cands, lambdas, se_img, se, default_eigenfaces(), DLIB68), repeat
         ),
         "warp (full image)": median_ms(lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles), repeat),
-        "ERI (ratio of two warped photos)": median_ms(lambda: eri.expression_ratio(tn_img, tn_img, mask, iod), repeat),
-        "ERI mask": median_ms(lambda: eri.ratio_mask(tn_img.shape[:2], gl, dst[mesh.forehead], DLIB68), repeat),
-        "MD mask (Eqs. 10-11)": median_ms(lambda: muscle.importance_mask(tn_img.shape[:2], centres, radii, h), repeat),
+        "ERI (both source photos warped on its grid)": median_ms(lambda: cloner.ratio(rendered, expression), repeat),
+        "MD mask (Eqs. 10-11)": median_ms(
+            lambda: muscle.importance_mask(tn_img.shape[:2], centres, radii, h, muscle.mask_step(radii)), repeat
+        ),
     }
 
 
