@@ -178,16 +178,10 @@ def expression_ratio(
         Where the colour test does not apply (:func:`exprclone.shading.lips`).
     """
     step = min(filter_step(iod), *mask.shape)
-
-    def on_grid(image: np.ndarray) -> np.ndarray:
-        luma = luminance(image)
-        energy = raster.shrink(shrunk.detail_energy(luma, iod), step)
-        return np.dstack([raster.shrink(image, step).astype(np.float32) / 255.0, raster.shrink(luma, step), energy])
-
-    colour = None if target is None else raster.shrink(target, step).astype(np.float32) / 255.0
+    neutral, expression = (shrunk.grid_pixels(image, iod, step) for image in (neutral_warped, expression_warped))
+    colour = None if target is None else shrunk.grid_pixels(target, iod, step, detail=False)
     lips = None if exempt is None else raster.shrink(exempt, step)
-    photos = on_grid(neutral_warped), on_grid(expression_warped)
-    small = ratio_on_grid(*photos, colour, raster.shrink(mask, step), iod / step, lips, blocks=step > 1)
+    small = ratio_on_grid(neutral, expression, colour, raster.shrink(mask, step), iod / step, lips, blocks=step > 1)
     return raster.enlarge(small, mask.shape, step)
 
 

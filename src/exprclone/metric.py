@@ -84,12 +84,10 @@ def target_grey(target_neutral: np.ndarray, mesh: warp.Mesh, layout: Layout) -> 
     return eigenface.downscaled(target_neutral, eigenface.crop_transform(mesh.points[: mesh.n_landmarks], layout))
 
 
-def render_crops(
-    target: np.ndarray | tuple[np.ndarray, float], mesh: warp.Mesh, candidates: list[np.ndarray], layout: Layout
-) -> np.ndarray:
-    """Aligned crops of the target photo (or its :func:`target_grey`) warped to each candidate landmark set, ``(L, S, S)``."""
+def render_crops(target: tuple[np.ndarray, float], mesh: warp.Mesh, candidates: list[np.ndarray], layout: Layout) -> np.ndarray:
+    """Aligned crops of the target photo (its :func:`target_grey`) warped to each candidate landmark set, ``(L, S, S)``."""
     size = eigenface.CROP_SIZE
-    grey, scale = target_grey(target, mesh, layout) if isinstance(target, np.ndarray) else target
+    grey, scale = target
     crops = []
     for landmarks in candidates:
         dst = mesh.control_points(lips.uncross(landmarks, layout))
@@ -100,7 +98,7 @@ def render_crops(
 
 
 def choose_lambda(
-    target_neutral: np.ndarray | tuple[np.ndarray, float],
+    target: tuple[np.ndarray, float],
     mesh: warp.Mesh,
     candidates: list[np.ndarray],
     lambdas: np.ndarray,
@@ -112,12 +110,12 @@ def choose_lambda(
     """Eq. (8): the candidate ``lambda_k`` of smallest DB.
 
     ``candidates[i]`` are the elastic landmarks for ``lambdas[i]``; ``lambdas[0]`` must
-    be 0, whose candidate is the global result ``I_target_gl``. ``target_neutral`` is the
-    target photo, or its :func:`target_grey`.
+    be 0, whose candidate is the global result ``I_target_gl``. ``target`` is the target
+    photo as :func:`target_grey` gives it (a :class:`~exprclone.cloner.Cloner` keeps it).
     """
     if lambdas[0] != 0:
         raise ValueError("the first candidate lambda_k must be 0 (the global warping result)")
-    e = basis.features(render_crops(target_neutral, mesh, candidates, layout))
+    e = basis.features(render_crops(target, mesh, candidates, layout))
     e_src = basis.features(eigenface.crop(source_expression, source_expression_landmarks, layout)[None])[0]
     db, to_source, to_global = db_metric(e, e_src, e[0])
     return DBCurve(np.asarray(lambdas, float), db, to_source, to_global, float(lambdas[int(np.argmin(db))]))

@@ -67,6 +67,21 @@ def detail_energy(luma: np.ndarray, iod: float) -> np.ndarray:
     return detail * detail
 
 
+def grid_pixels(image: np.ndarray, iod: float, step: int, detail: bool = True) -> np.ndarray:
+    """The block means of ``image`` (uint8 RGB) over blocks of ``step``: :attr:`Shrunk.pixels`, its channels described there.
+
+    ``iod`` is the face's inter-ocular distance in ``image`` (the detail's scale); ``detail`` measures the detail's energy.
+    """
+    luma = raster.luma(image).astype(np.float32) / 255.0
+    colour = raster.shrink(image, step)
+    pixels = np.zeros(colour.shape[:2] + (8 if detail else 4,), np.float32)
+    pixels[..., :3] = colour / np.float32(255.0)
+    pixels[..., LUMA] = raster.shrink(luma, step)
+    if detail:
+        pixels[..., ENERGY] = raster.shrink(detail_energy(luma, iod), step)
+    return pixels
+
+
 @dataclass(frozen=True)
 class Shrunk:
     """A photo's face on the ERI's shrunk grid.
@@ -109,14 +124,7 @@ class Shrunk:
         h, w = crop.shape[0] // step * step, crop.shape[1] // step * step
         if h == 0 or w == 0:  # a box thinner than a block: one block of its pixels
             crop, step = crop[:1, :1], 1
-        luma = raster.luma(crop).astype(np.float32) / 255.0
-        colour = raster.shrink(crop, step)
-        pixels = np.zeros(colour.shape[:2] + (8 if detail else 4,), np.float32)
-        pixels[..., :3] = colour / np.float32(255.0)
-        pixels[..., LUMA] = raster.shrink(luma, step)
-        if detail:
-            pixels[..., ENERGY] = raster.shrink(detail_energy(luma, iod), step)
-        return cls(pixels, np.array([cols.start, rows.start], float), step)
+        return cls(grid_pixels(crop, iod, step, detail), np.array([cols.start, rows.start], float), step)
 
     def warped(self, warp: ImageWarper, source: np.ndarray, labelling: Labelling, mesh: Mesh) -> np.ndarray:
         """Its :attr:`pixels` moved from the photo's control points ``source`` to the grid's, ``labelling.dst``.
