@@ -127,12 +127,16 @@ def inside(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
     p = np.atleast_2d(points)[:, None, :]
     c, d = polygon, np.roll(polygon, -1, axis=0)
     e = d - c
-    t = np.clip(((p - c) * e).sum(-1) / np.maximum((e * e).sum(-1), 1e-300), 0.0, 1.0)
-    on_edge = (np.linalg.norm(p - (c + t[..., None] * e), axis=-1) <= TOLERANCE).any(1)
     # even-odd rule: count the edges crossed by a ray to the right
     spans = (c[:, 1] > p[..., 1]) != (d[:, 1] > p[..., 1])
     x = c[:, 0] + (p[..., 1] - c[:, 1]) * e[:, 0] / np.where(e[:, 1] == 0, 1.0, e[:, 1])
-    return on_edge | ((spans & (p[..., 0] < x)).sum(1) % 2 == 1)
+    result: np.ndarray = (spans & (p[..., 0] < x)).sum(1) % 2 == 1
+    outside = ~result  # only these may still be on an edge
+    if outside.any():
+        q = p[outside]
+        t = np.clip(((q - c) * e).sum(-1) / np.maximum((e * e).sum(-1), 1e-300), 0.0, 1.0)
+        result[outside] = (np.linalg.norm(q - (c + t[..., None] * e), axis=-1) <= TOLERANCE).any(1)
+    return result
 
 
 def clearly_inside(ring: np.ndarray, polygon: np.ndarray) -> bool:

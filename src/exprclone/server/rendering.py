@@ -10,6 +10,11 @@ connection's thread as before, send their arguments to the host and wait for the
 started with the server (each loads the models once, which takes seconds), another when
 a session finds none idle, and each is kept for the next session when its own ends. The protocol
 (:mod:`exprclone.server.live`) is the same whichever process renders.
+
+A host renders on one thread: OpenCV's own worker threads (one per core by default) would
+compete with the other sessions' hosts and the browser for the same cores, and wait on
+each other; with them, two sessions at 512 pixels each delivered about 1.5 frames a
+second fewer (``benchmarks/live.py``).
 """
 
 from __future__ import annotations
@@ -32,9 +37,12 @@ from .live import Session
 def serve(connection: Connection) -> None:
     """A host process's loop: ``("start", (portrait bytes, max_pixels, arguments of Session))``, then calls of the
     session's methods ``(name, arguments)``, then ``("end", ())``; each answered ``("ok", result)`` or ``("error", e)``."""
+    import cv2
+
     from ..io.images import load_image
     from .work import load_models
 
+    cv2.setNumThreads(1)  # the session's frames are small: its other cores serve the other sessions (module docstring)
     load_models()
     session: Session | None = None
     while True:
