@@ -38,7 +38,7 @@ DETAIL_SIGMA = 0.01
 #: two-tap filter along each axis. The texture test's range (:data:`exprclone.eri.TEXTURE_RANGE`) was measured on
 #: warped photos, so an unwarped photo's detail is passed through it (:func:`detail_energy`).
 RESAMPLING_LOSS = np.array([(1 + 3**-0.5) / 2, (1 - 3**-0.5) / 2], np.float32)
-#: the channels of a photo's :attr:`Shrunk.pixels` after R, G and B: its luma, and (a source's photo) its detail's energy.
+#: the channels of a source photo's :attr:`Shrunk.pixels` after R, G and B: its luma and its detail's energy.
 LUMA, ENERGY = 3, 4
 
 
@@ -70,14 +70,15 @@ def detail_energy(luma: np.ndarray, iod: float) -> np.ndarray:
 def grid_pixels(image: np.ndarray, iod: float, step: int, detail: bool = True) -> np.ndarray:
     """The block means of ``image`` (uint8 RGB) over blocks of ``step``: :attr:`Shrunk.pixels`, its channels described there.
 
-    ``iod`` is the face's inter-ocular distance in ``image`` (the detail's scale); ``detail`` measures the detail's energy.
+    ``iod`` is the face's inter-ocular distance in ``image`` (the detail's scale); ``detail`` (a source's photo) measures
+    its luma and its detail's energy, of which the target's colour needs neither.
     """
-    luma = raster.luma(image).astype(np.float32) / 255.0
     colour = raster.shrink(image, step)
     pixels = np.zeros(colour.shape[:2] + (8 if detail else 4,), np.float32)
     pixels[..., :3] = colour / np.float32(255.0)
-    pixels[..., LUMA] = raster.shrink(luma, step)
     if detail:
+        luma = raster.luma(image).astype(np.float32) / 255.0
+        pixels[..., LUMA] = raster.shrink(luma, step)
         pixels[..., ENERGY] = raster.shrink(detail_energy(luma, iod), step)
     return pixels
 
@@ -90,8 +91,8 @@ class Shrunk:
     ----------
     pixels : ndarray of shape (h, w, 4) or (h, w, 8), float32
         Block means of R, G, B (in [0, 1], rounded to 8 bits as the colour tests have
-        always taken them), of the luma (:data:`LUMA`, not rounded: Liu's ratio divides
-        it) and, for a source's photo, of :func:`detail_energy` (:data:`ENERGY`), then zeros:
+        always taken them) and, for a source's photo, of the luma (:data:`LUMA`, not rounded:
+        Liu's ratio divides it) and of :func:`detail_energy` (:data:`ENERGY`), then zeros:
         OpenCV's remap is several times faster on four or eight channels than on three or five.
     origin : ndarray of shape (2,)
         Where the first block starts in the photo (pixel x, y).
@@ -117,7 +118,7 @@ class Shrunk:
         step : int
         margin : float
         detail : bool
-            Measure the detail's energy (the texture test, for the source's photos).
+            Measure the luma and the detail's energy (Liu's ratio and the texture test, for the source's photos).
         """
         rows, cols = geometry.box(points, image.shape, margin, closed=False)
         crop = image[rows, cols]
