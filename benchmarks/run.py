@@ -8,6 +8,8 @@ Prints, for the sample photos at 512x512 and at their full 1350x1350:
     the ERI, the MD mask);
   * the median time of each method end to end, with landmarks known, and of e+md with
     landmark detection on all three photos included;
+  * e+md against global end to end, the two run in turn (both see the same load: the
+    ratio of the two is what the speed targets are stated in);
   * our piecewise-affine warp against scikit-image's PiecewiseAffineTransform + warp on
     the same points and image, and against a bare cv2.remap with precomputed maps (the
     floor for any warp; measured in turn with ours, so both see the same load), as
@@ -125,6 +127,12 @@ def methods(images, lms, repeat: int) -> dict[str, float]:
     return out
 
 
+def against_global(images, lms, repeat: int) -> dict[str, float]:
+    """e+md and global end to end (landmarks known) in turn, 3x as many runs: the methods' medians above are taken one
+    method after the other, and this machine's load drifts between them."""
+    return interleaved_ms({m: lambda m=m: clone(*images, method=m, landmarks=lms) for m in ("global", "e+md")}, 3 * repeat)
+
+
 def warp_peers(images, lms, repeat: int) -> dict[str, float]:
     tn_img = images[2]
     tn = lms[2]
@@ -217,6 +225,7 @@ def main() -> None:
         images, lms = photos(data, size)
         show(f"stages at {size}x{size}", stages(images, lms, args.repeat))
         show(f"methods end to end at {size}x{size} (landmarks known unless said)", methods(images, lms, args.repeat))
+        show(f"e+md against global at {size}x{size}, in turn, ratio to global", against_global(images, lms, args.repeat), "global")
         show(
             f"piecewise-affine warp at {size}x{size}, ratio to the bare remap",
             warp_peers(images, lms, args.repeat),

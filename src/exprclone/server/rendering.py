@@ -12,9 +12,10 @@ a session finds none idle, and each is kept for the next session when its own en
 (:mod:`exprclone.server.live`) is the same whichever process renders.
 
 A host renders on one thread: OpenCV's own worker threads (one per core by default) would
-compete with the other sessions' hosts and the browser for the same cores, and wait on
-each other; with them, two sessions at 512 pixels each delivered about 1.5 frames a
-second fewer (``benchmarks/live.py``).
+compete with the other sessions' hosts for the same cores, and wait on each other. The gain
+is small against this machine's noise: two sessions at 512 pixels, with and without in turn
+(five runs of each, the browsers on the same two cores), delivered a median of 15.0 and
+14.4 frames a second each.
 """
 
 from __future__ import annotations
