@@ -259,6 +259,7 @@ def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | f
     -------
     ndarray of shape (H, W, 3), uint8
     """
+    importance = np.asarray(importance) if np.ndim(importance) else float(importance)
     out = np.empty(image.shape, np.uint8)
     gains = np.empty((min(STRIP, len(image)),) + image.shape[1:], np.float32)  # one buffer for every strip (in the cache)
     for y0 in range(0, len(image), STRIP):
