@@ -9,13 +9,15 @@ row of :data:`exprclone.methods.TABLE`; how its stages run, from the
 
 from __future__ import annotations
 
+import dataclasses
 import functools
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from . import eri, geometry, global_warp, lips, metric, mouth_fill, mouth_tone, muscle, retarget, warp
+from . import eri, geometry, global_warp, lips, metric, mouth, mouth_fill, mouth_tone, muscle, retarget, teeth, warp
 from .checks import check_face, check_lambda, check_options, options_from
 from .eigenface import Eigenfaces
 from .layout import DLIB68, Layout
@@ -181,6 +183,29 @@ class Cloner:
     def mouth_reference(self) -> mouth_tone.Reference:
         """The target photo and the source's neutral photo measured for the mouth interior's match."""
         return mouth_tone.Reference.measure(self.target_image, self.t_neu, self.layout, (self.source_image, self.s_neu))
+
+    def pool_interior(self, frames: Sequence[np.ndarray], points: Sequence[np.ndarray]) -> None:
+        """Read the source's teeth and cavity once, pooled over frames of a performance, for every paste after.
+
+        Each frame's interior (:func:`exprclone.mouth.interior`) is taken in the target's light; the pool
+        (:attr:`exprclone.mouth_tone.Reference.source_interior`) gives every later paste its colour, the same in every
+        frame (:func:`exprclone.drive.prepare` reads the most open mouths of a video).
+
+        Parameters
+        ----------
+        frames : sequence of ndarray of shape (H, W, 3), uint8 RGB
+            Frames whose mouth is open; nothing is read without any.
+        points : sequence of ndarray of shape (N, 2)
+            Their landmarks.
+        """
+        reference, layout = self.mouth_reference, self.layout
+        if not len(frames):
+            return
+        points = [lips.uncross(p, layout) for p in points]
+        parts = [mouth.interior(f, p, layout, mouth_tone.tone_gain(f, p, reference, layout)) for f, p in zip(frames, points)]
+        pixels = (np.concatenate([f[m[0]] for f, m in zip(frames, parts)]), np.concatenate([f[m[1]] for f, m in zip(frames, parts)]))
+        pooled = teeth.Interior.read(pixels, float(np.median([mouth.mouth_width(p, layout) for p in points])))
+        self.mouth_reference = dataclasses.replace(reference, source_interior=pooled)
 
     def clone_methods(
         self,

@@ -24,7 +24,6 @@ starts a new pass over the frames.
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -32,7 +31,7 @@ from typing import Any
 import cv2
 import numpy as np
 
-from . import geometry, global_warp, lips, mouth, mouth_tone, teeth, tracking
+from . import geometry, global_warp, mouth, tracking
 from .checks import check_image, check_lambda, check_options, options_from
 from .cloner import Cloner, CloneResult
 from .eigenface import Eigenfaces
@@ -245,17 +244,6 @@ def open_frames_of(points: np.ndarray, usable: np.ndarray, fps: float, layout: L
     return strongest_frames(opened, usable & (opened >= mouth.OPENING[0]), TEETH_FRAMES, max(1, round(LAMBDA_SPACING * fps)))
 
 
-def read_interior(cloner: Cloner, frames: Sequence[np.ndarray], points: Sequence[np.ndarray]) -> teeth.Interior | None:
-    """The source's teeth and cavity (:func:`mouth.interior`, in the target's light) pooled over ``frames``; None without frames."""
-    reference, layout = cloner.mouth_reference, cloner.layout
-    if not len(frames):
-        return None
-    points = [lips.uncross(p, layout) for p in points]
-    parts = [mouth.interior(f, p, layout, mouth_tone.tone_gain(f, p, reference, layout)) for f, p in zip(frames, points)]
-    pixels = (np.concatenate([f[m[0]] for f, m in zip(frames, parts)]), np.concatenate([f[m[1]] for f, m in zip(frames, parts)]))
-    return teeth.Interior.read(pixels, float(np.median([mouth.mouth_width(p, layout) for p in points])))
-
-
 def frames_at(frames: Iterable[np.ndarray], indices: list[int]) -> list[np.ndarray]:
     """The frames at ``indices``, in that order, taken from one pass (stopped as soon as all are found)."""
     wanted, found = set(indices), {}
@@ -401,8 +389,7 @@ def prepare(
     target_points = detector.detect(target, TARGET_NEUTRAL) if target_points is None else target_points
     cloner = Cloner(neutral_image, neutral_points, target, target_points, eigenfaces=eigenfaces, layout=layout, options=asked)
     if opened:  # the source's teeth and cavity read once: the paste's colour the same in every frame
-        source_interior = read_interior(cloner, fetched[: len(opened)], [points[i] for i in opened])
-        cloner.mouth_reference = dataclasses.replace(cloner.mouth_reference, source_interior=source_interior)
+        cloner.pool_interior(fetched[: len(opened)], [points[i] for i in opened])
     fetched = fetched[len(opened) :]
     if chosen:
         lambda_k = choose_lambda(cloner, fetched, [points[i] for i in chosen])
