@@ -133,3 +133,14 @@ def test_the_quick_inside_test_never_says_inside_wrongly(pair_points):
                 said_inside += 1
                 assert exact
     assert 50 < said_inside < 550  # the random rings test both answers
+
+
+def test_inside_counts_every_edge_and_vertex_and_nothing_beyond():
+    """The even-odd rule alone calls points on a polygon's right and top edges outside; within TOLERANCE they are in."""
+    square = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]])
+    along = np.linspace(0.0, 10.0, 41)
+    on = np.concatenate([np.c_[along, 0 * along], np.c_[10 + 0 * along, along], np.c_[along, 10 + 0 * along], np.c_[0 * along, along]])
+    assert lips.inside(on, square).all()
+    assert lips.inside(np.array([[5.0, 5.0], [10.0, 5.0 + 1e-9]]), square).all()  # inside; on the right edge within tolerance
+    outward = np.repeat([[0.0, -1.0], [1.0, 0.0], [0.0, 1.0], [-1.0, 0.0]], len(along), axis=0)  # each edge's outward normal
+    assert not lips.inside(on + 1e-4 * outward, square).any()

@@ -74,9 +74,10 @@ def grain_pair(photo):
     source_lm, target_lm = lips.uncross(se_lm, DLIB68), lips.uncross(tn_lm, DLIB68)  # as the pipeline passes them
 
     def fill(degrade):
-        return mouth_fill.fill_interior(
-            degrade(off.image), off.landmarks["final"], se, source_lm, mouth_tone.Reference.measure(degrade(tn), target_lm, DLIB68), DLIB68
-        )
+        def measure():
+            return mouth_tone.Reference.measure(degrade(tn), target_lm, DLIB68)
+
+        return mouth_fill.fill_interior(degrade(off.image), off.landmarks["final"], se, source_lm, measure, DLIB68)
 
     sharp, weight = fill(lambda im: im)
     whole = cv2.erode((weight > 0.99).astype(np.uint8), np.ones((7, 7), np.uint8)).astype(bool)
@@ -184,7 +185,7 @@ def test_teeth_fade_out_as_the_source_shows_less(open_pair):
         covered[(inner > 0) & (np.arange(se.shape[1]) < edge)[None, :]] = lip_colour
         teeth, cavity = mouth.interior(covered, lips.uncross(se_lm, DLIB68), DLIB68)
         shown.append((teeth.sum() + cavity.sum()) / mouth.mouth_width(se_lm, DLIB68) ** 2)
-        _, mask = mouth_fill.fill_interior(on.image, on.landmarks["final"], covered, se_lm, reference, DLIB68)
+        _, mask = mouth_fill.fill_interior(on.image, on.landmarks["final"], covered, se_lm, lambda: reference, DLIB68)
         amounts.append(0.0 if mask is None else float(mask.sum()))
     amounts, shown = np.array(amounts), np.array(shown)
     assert shown[0] > mouth.INTERIOR[1] and amounts[-1] == 0  # from all teeth to none

@@ -90,7 +90,7 @@ def fill_interior(
     final: np.ndarray,
     source: np.ndarray,
     source_landmarks: np.ndarray,
-    reference: Reference | Callable[[], Reference],
+    measure: Callable[[], Reference],
     layout: Layout,
     amount: float = 1.0,
 ) -> tuple[np.ndarray, np.ndarray | None]:
@@ -104,9 +104,9 @@ def fill_interior(
         Its landmarks.
     source : ndarray of shape (h, w, 3), uint8
         The source's expression photo, and ``source_landmarks`` its landmarks.
-    reference : Reference, or a function that measures it
-        The target's own photo (and the source's neutral photo), measured for the
-        tone, sharpness and noise match: only when a paste is made, if it is a function.
+    measure : function giving a Reference
+        Measures the target's own photo (and the source's neutral photo) for the tone,
+        sharpness and noise match; called only when a paste is made.
     layout : Layout
     amount : float
         Share of the source's mouth motion transferred, at most 1 (expression strength,
@@ -123,8 +123,7 @@ def fill_interior(
     weight = fade_in(opening(final, layout), OPENING) * fade_in(opening(source_landmarks, layout), OPENING) * amount
     if weight == 0:
         return image, None
-    if callable(reference):
-        reference = reference()
+    reference = measure()
     gain = tone_gain(source, source_landmarks, reference, layout)
     parts = interior(source, source_landmarks, layout, gain)
     shown = sum(int(part.sum()) for part in parts)
