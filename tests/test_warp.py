@@ -148,3 +148,40 @@ def test_a_closed_slit_maps_into_the_source(pair):
     assert np.isfinite(pa.coeffs).all()
     image = target[600:680, 600:700]
     assert np.abs(warp.warp(image, src, dst, tri).astype(int) - image).max() <= 1
+
+
+def test_maps_solved_together_are_each_solved_alone(pair):
+    """warp.affines (the DB metric's candidates) gives each labelling the table it gets alone: outputs of different
+    sizes, triangles dropped from one and not the other, a closed slit (pinv), 8-bit and 32-bit labels."""
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    dst = mesh.control_points(lm + 6 * np.stack([np.cos(lm[:, 1] / 70), np.sin(lm[:, 0] / 45)], 1))
+    slit = mesh.control_points(lm)
+    pairs = np.array(DLIB68.lip_pairs)
+    slit[pairs[:, 0]] = slit[pairs[:, 1]] = slit[pairs].mean(axis=1)  # the inner lips closed: slivers of no area
+    assert not (np.abs(warp.signed_areas(slit, mesh.triangles)) > 1e-6).all()
+    corners = np.array([[-0.5, -0.5], [299.5, -0.5], [-0.5, 199.5], [299.5, 199.5]])
+    many = np.concatenate([corners, np.random.default_rng(0).uniform(5, 195, (300, 2)) * (1.5, 1)])
+    fine = Delaunay(many).simplices.astype(np.int32)
+    groups = [
+        (
+            mesh.points,
+            [
+                warp.Labelling.of(dst, mesh.triangles, target.shape[:2]),
+                warp.Labelling.of(slit, mesh.triangles, target.shape[:2]),
+                warp.Labelling.of(dst - lm.min(0), mesh.triangles, (120, 90)),
+            ],
+        ),
+        (many, [warp.Labelling.of(many + 3, fine, (200, 300)), warp.Labelling.of(many - 5, fine, (100, 150))]),
+    ]
+    assert len({len(lab.triangles) for lab in groups[0][1]}) == 2
+    assert {lab.labels.dtype for lab in groups[1][1]} == {np.dtype(np.uint8), np.dtype(np.int32)}
+    for src, labellings in groups:
+        for lab, together in zip(labellings, warp.affines(labellings, src), strict=True):
+            alone = lab.affine(src)
+            assert together.labels is lab.labels and np.array_equal(together.coeffs, alone.coeffs)
+            # the table is the triangles' own maps: each triangle's corners in the output go to its corners in the source
+            tri = lab.triangles
+            d = np.concatenate([lab.dst[tri], np.ones((len(tri), 3, 1))], axis=2)
+            solid = np.abs(warp.signed_areas(lab.dst, tri)) > 1e-6
+            assert np.allclose((d @ together.coeffs[1 : len(tri) + 1])[solid], src[tri][solid], atol=1e-6)

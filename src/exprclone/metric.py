@@ -88,13 +88,13 @@ def render_crops(target: tuple[np.ndarray, float], mesh: warp.Mesh, candidates: 
     """Aligned crops of the target photo (its :func:`target_grey`) warped to each candidate landmark set, ``(L, S, S)``."""
     size = eigenface.CROP_SIZE
     grey, scale = target
-    crops = []
+    labellings = []
     for landmarks in candidates:
         dst = mesh.control_points(lips.uncross(landmarks, layout))
         dst, _ = warp.unfold(mesh.points, dst, mesh.triangles, mesh.n_moving)
         t = eigenface.crop_transform(landmarks, layout)
-        crops.append(warp.warp(grey, mesh.points * scale, geometry.apply(t, dst), mesh.triangles, (size, size)))
-    return np.asarray(crops, np.float32)
+        labellings.append(warp.Labelling.of(geometry.apply(t, dst), mesh.triangles, (size, size)))
+    return np.asarray([warp.sample(grey, pa) for pa in warp.affines(labellings, mesh.points * scale)], np.float32)
 
 
 def choose_lambda(

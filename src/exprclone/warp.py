@@ -24,7 +24,7 @@ fold over are relaxed first (:func:`unfold`).
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import cv2
@@ -271,20 +271,33 @@ class Labelling:
 
     def affine(self, src: np.ndarray) -> PiecewiseAffine:
         """The warp from control points ``src`` (``(N, 2)``, in the source image) to :attr:`dst` over these labels."""
-        triangles, dst = self.triangles, self.dst
-        d = np.concatenate([dst[triangles], np.ones((len(triangles), 3, 1))], axis=2)
-        # Affine dst -> src per triangle: d @ coeffs = src. Slivers of (almost) no area,
-        # such as the slit between closed lips, get the least-squares map of pinv.
-        src = np.asarray(src, float)
-        solvable = np.abs(signed_areas(dst, triangles)) > 1e-6
-        coeffs = np.empty((len(triangles), 3, 2))
-        coeffs[solvable] = np.linalg.solve(d[solvable], src[triangles[solvable]])
-        if not solvable.all():
-            coeffs[~solvable] = np.linalg.pinv(d[~solvable]) @ src[triangles[~solvable]]
-        coeffs = np.concatenate([np.full((1, 3, 2), -1e6), coeffs])
-        if self.labels.dtype == np.uint8:
-            coeffs = np.resize(coeffs, (256, 3, 2))  # a full table for cv2.LUT
-        return PiecewiseAffine(self.labels, coeffs)
+        return affines([self], src)[0]
+
+
+def affines(labellings: Sequence[Labelling], src: np.ndarray) -> list[PiecewiseAffine]:
+    """The warps from control points ``src`` (``(N, 2)``, in the source image) to each labelling's :attr:`~Labelling.dst`.
+
+    Their triangles' affine maps are solved in one batch: one photo warped to many control points (the DB metric's
+    candidates) pays the solver's call once, not once per warp; each map is the same as solved alone.
+    """
+    src = np.asarray(src, float)
+    triangles = np.concatenate([lab.triangles for lab in labellings])
+    dst = np.concatenate([lab.dst[lab.triangles] for lab in labellings])
+    d = np.concatenate([dst, np.ones((len(triangles), 3, 1))], axis=2)
+    # Affine dst -> src per triangle: d @ coeffs = src. Slivers of (almost) no area,
+    # such as the slit between closed lips, get the least-squares map of pinv.
+    solvable = np.abs(signed_areas(dst.reshape(-1, 2), np.arange(3 * len(dst)).reshape(-1, 3))) > 1e-6
+    coeffs = np.empty((len(triangles), 3, 2))
+    coeffs[solvable] = np.linalg.solve(d[solvable], src[triangles[solvable]])
+    if not solvable.all():
+        coeffs[~solvable] = np.linalg.pinv(d[~solvable]) @ src[triangles[~solvable]]
+    out = []
+    for lab, own in zip(labellings, np.split(coeffs, np.cumsum([len(lab.triangles) for lab in labellings])[:-1])):
+        table = np.concatenate([np.full((1, 3, 2), -1e6), own])
+        if lab.labels.dtype == np.uint8:
+            table = np.resize(table, (256, 3, 2))  # a full table for cv2.LUT
+        out.append(PiecewiseAffine(lab.labels, table))
+    return out
 
 
 @dataclass(frozen=True)
