@@ -185,3 +185,15 @@ def test_maps_solved_together_are_each_solved_alone(pair):
             d = np.concatenate([lab.dst[tri], np.ones((len(tri), 3, 1))], axis=2)
             solid = np.abs(warp.signed_areas(lab.dst, tri)) > 1e-6
             assert np.allclose((d @ together.coeffs[1 : len(tri) + 1])[solid], src[tri][solid], atol=1e-6)
+
+
+def test_neighbours_are_the_landmarks_sharing_a_triangle(pair):
+    """Mesh.neighbours: for each landmark, in order and once each, every other landmark it shares a triangle with (a
+    triangle's three vertices are joined by its edges); forehead, mid-lip and border points are not landmarks."""
+    (_, _, target), (_, _, lm) = pair
+    mesh = warp.build_mesh(lm, target.shape, DLIB68)
+    got = mesh.neighbours()
+    assert len(got) == mesh.n_landmarks == 68
+    for i, found in enumerate(got):
+        shared = {int(j) for t in mesh.triangles if i in t for j in t if j != i and j < mesh.n_landmarks}
+        assert found.tolist() == sorted(shared), i

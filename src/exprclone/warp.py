@@ -109,8 +109,9 @@ class Mesh:
         tri = self.triangles
         edges = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
         edges = edges[(edges < n).all(axis=1)]
-        edges = np.unique(np.sort(edges, axis=1), axis=0)
-        return [np.unique(np.concatenate([edges[edges[:, 0] == i, 1], edges[edges[:, 1] == i, 0]])) for i in range(n)]
+        # each edge both ways as one sorted key (from * n + to): each landmark's neighbours in order, once each
+        keys = np.unique(np.concatenate([edges[:, 0] * n + edges[:, 1], edges[:, 1] * n + edges[:, 0]]))
+        return np.split((keys % n).astype(tri.dtype), np.searchsorted(keys // n, np.arange(1, n)))
 
 
 def build_mesh(landmarks: np.ndarray, image_shape: tuple[int, ...], layout: Layout) -> Mesh:
