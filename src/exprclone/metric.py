@@ -85,7 +85,11 @@ def target_grey(target_neutral: np.ndarray, mesh: warp.Mesh, layout: Layout) -> 
 
 
 def render_crops(target: tuple[np.ndarray, float], mesh: warp.Mesh, candidates: list[np.ndarray], layout: Layout) -> np.ndarray:
-    """Aligned crops of the target photo (its :func:`target_grey`) warped to each candidate landmark set, ``(L, S, S)``."""
+    """Aligned crops of the target photo (its :func:`target_grey`) warped to each candidate landmark set, ``(L, S, S)``.
+
+    Each candidate labels its crop's pixels by triangle; the triangles' maps of all candidates are solved in one batch
+    (:func:`exprclone.warp.affines`), each as it would be alone.
+    """
     size = eigenface.CROP_SIZE
     grey, scale = target
     labellings = []
