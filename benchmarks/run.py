@@ -105,7 +105,7 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
             lambda: stages_.elastic_stage(cloner, expression, before), repeat
         ),
         "  of which DB on given candidates": median_ms(
-            lambda: metric.choose_lambda(cloner.db_target, mesh, cands, lambdas, se_img, se, default_eigenfaces(), DLIB68), repeat
+            lambda: metric.choose_lambda(cloner.db_target, mesh, cands, lambdas, expression.crop, default_eigenfaces(), DLIB68), repeat
         ),
         "warp (full image)": median_ms(lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles), repeat),
         "ERI (both source photos warped on its grid)": median_ms(lambda: cloner.ratio(rendered, expression), repeat),

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from exprclone import elastic, global_warp, local_warp, metric, warp
+from exprclone import eigenface, elastic, global_warp, local_warp, metric, warp
 from exprclone.layout import DLIB68
 from exprclone.models import default_eigenfaces
 
@@ -40,10 +40,11 @@ def test_choose_lambda_on_real_photos(pair):
     lambdas = np.array(metric.LAMBDAS)
     cands = [elastic.elastic_landmarks(gl, lo, mesh.neighbours(), lam) for lam in lambdas]
     grey = metric.target_grey(target, mesh, DLIB68)
-    curve = metric.choose_lambda(grey, mesh, cands, lambdas, se_img, se, default_eigenfaces(), DLIB68)
+    crop = eigenface.crop(se_img, se, DLIB68)
+    curve = metric.choose_lambda(grey, mesh, cands, lambdas, crop, default_eigenfaces(), DLIB68)
     assert np.isfinite(curve.db).all() and curve.to_global[0] == 0
     assert curve.best == lambdas[curve.db.argmin()]
     assert 0.2 < curve.to_source[0] < 3  # neither flattened nor overflowing
     assert np.all(np.diff(curve.to_global) >= -1e-3)  # candidates move away from GI as lambda grows
     with pytest.raises(ValueError):
-        metric.choose_lambda(grey, mesh, cands[1:], lambdas[1:], se_img, se, default_eigenfaces(), DLIB68)
+        metric.choose_lambda(grey, mesh, cands[1:], lambdas[1:], crop, default_eigenfaces(), DLIB68)

@@ -15,7 +15,7 @@ PEOPLE = samples.PEOPLE
 
 @pytest.fixture(scope="module")
 def photos(photo):
-    return {(i, kind): Photo(*photo(i, kind)) for i in PEOPLE for kind in ("neutral", "smile")}
+    return {(i, kind): Photo.of(*photo(i, kind), DLIB68) for i in PEOPLE for kind in ("neutral", "smile")}
 
 
 def test_one_persons_photos_in_the_right_order_raise_nothing(photos):

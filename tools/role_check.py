@@ -39,7 +39,7 @@ def load(data: Path) -> tuple[list[str], dict[str, role_check.Photo]]:
     for i in people:
         for kind, path in (("n", data / "neutral_front" / f"{i}_03.jpg"), ("s", data / "smiling_front" / f"{i}_08.jpg")):
             image = load_image(path)
-            photos[f"{i}_{kind}"] = role_check.Photo(image, default_detector().detect(image, str(path)))
+            photos[f"{i}_{kind}"] = role_check.Photo.of(image, default_detector().detect(image, str(path)), DLIB68)
     return people, photos
 
 

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from . import eri, geometry, global_warp, lips, metric, mouth, mouth_fill, mouth_tone, muscle, retarget, teeth, warp
+from . import eigenface, eri, geometry, global_warp, lips, metric, mouth, mouth_fill, mouth_tone, muscle, retarget, teeth, warp
 from .checks import check_face, check_lambda, check_options, options_from
 from .eigenface import Eigenfaces
 from .layout import DLIB68, Layout
@@ -215,6 +215,7 @@ class Cloner:
         lambda_k: float | str = "auto",
         *,
         mouth: bool = True,
+        crop: np.ndarray | None = None,
     ) -> dict[str, CloneResult]:
         """The source expression on the target face, by each of ``methods``.
 
@@ -226,6 +227,9 @@ class Cloner:
             Its landmarks.
         methods, lambda_k, mouth
             As for :func:`exprclone.clone_methods`.
+        crop : ndarray of shape (S, S), optional
+            Its eye-aligned crop, when the caller has made it (the role check's,
+            :class:`exprclone.role_check.Photo`); made here when the DB metric needs it.
 
         Returns
         -------
@@ -233,20 +237,24 @@ class Cloner:
             One result per method.
         """
         chosen = lookup(methods)
-        expression = self.expression(source_expression, source_expression_points, check_lambda(lambda_k))
+        expression = self.expression(source_expression, source_expression_points, check_lambda(lambda_k), crop)
         shapes = self.shapes(expression, {m.shape for m in chosen})
         rendered = {kind: self.render(shapes[kind].points) for kind in {m.shape for m in chosen}}
         ratios = {kind: self.ratio(rendered[kind], expression) for kind in {m.shape for m in chosen if m.eri}}
         return {m.name: self.result(m, expression, shapes, rendered[m.shape], ratios[m.shape] if m.eri else None, mouth) for m in chosen}
 
-    def expression(self, image: np.ndarray, points: np.ndarray, lambda_k: float | str) -> Expression:
+    def expression(self, image: np.ndarray, points: np.ndarray, lambda_k: float | str, crop: np.ndarray | None = None) -> Expression:
         """One source expression, prepared for the shape stages: with ``retarget``, its motion cleaned and the organs
-        local re-shaping aims at made the target's (:mod:`exprclone.retarget`); without, the paper's (its own points)."""
+        local re-shaping aims at made the target's (:mod:`exprclone.retarget`); without, the paper's (its own points).
+        With a ``lambda_k`` to choose, its eye-aligned crop (``crop`` if given) for the DB metric."""
+        if lambda_k == "auto" and crop is None:
+            crop = eigenface.crop(image, points, self.layout)
         points = lips.uncross(points, self.layout)
         if not self.options.retarget:
-            return Expression(image, points, lambda_k, points, points)
+            return Expression(image, points, lambda_k, points, points, crop)
         cleaned = retarget.clean(self.s_neu, points, self.layout)
-        return Expression(image, points, lambda_k, cleaned, retarget.organ_reference(self.s_neu, cleaned, self.t_neu, self.layout))
+        organs = retarget.organ_reference(self.s_neu, cleaned, self.t_neu, self.layout)
+        return Expression(image, points, lambda_k, cleaned, organs, crop)
 
     def shapes(self, expression: Expression, wanted: set[str]) -> dict[str, Shape]:
         """The shape stages (:data:`SHAPE_STAGES`) up to the last one ``wanted``; GI and LI always."""

@@ -106,8 +106,7 @@ def choose_lambda(
     mesh: warp.Mesh,
     candidates: list[np.ndarray],
     lambdas: np.ndarray,
-    source_expression: np.ndarray,
-    source_expression_landmarks: np.ndarray,
+    source_crop: np.ndarray,
     basis: Eigenfaces,
     layout: Layout,
 ) -> DBCurve:
@@ -115,11 +114,12 @@ def choose_lambda(
 
     ``candidates[i]`` are the elastic landmarks for ``lambdas[i]``; ``lambdas[0]`` must
     be 0, whose candidate is the global result ``I_target_gl``. ``target`` is the target
-    photo as :func:`target_grey` gives it (a :class:`~exprclone.cloner.Cloner` keeps it).
+    photo as :func:`target_grey` gives it (a :class:`~exprclone.cloner.Cloner` keeps it);
+    ``source_crop`` the source's expression photo as :func:`exprclone.eigenface.crop` gives it.
     """
     if lambdas[0] != 0:
         raise ValueError("the first candidate lambda_k must be 0 (the global warping result)")
     e = basis.features(render_crops(target, mesh, candidates, layout))
-    e_src = basis.features(eigenface.crop(source_expression, source_expression_landmarks, layout)[None])[0]
+    e_src = basis.features(source_crop[None])[0]
     db, to_source, to_global = db_metric(e, e_src, e[0])
     return DBCurve(np.asarray(lambdas, float), db, to_source, to_global, float(lambdas[int(np.argmin(db))]))

@@ -202,9 +202,10 @@ def clone_methods(
         for im, p, role in zip(images, given, ROLES)
     )
     cloner = Cloner(images[0], s_neu, images[2], t_neu, eigenfaces=eigenfaces, layout=layout, options=asked)
-    said = tuple(role_check.judge_roles(role_check.Photo(images[0], s_neu), role_check.Photo(images[1], s_exp), layout))
+    neutral, expression = role_check.Photo.of(images[0], s_neu, layout), role_check.Photo.of(images[1], s_exp, layout)
+    said = tuple(role_check.judge_roles(neutral, expression, layout))
     for message in said:
         warnings.warn(message, ExprCloneWarning, stacklevel=2)
-    results = cloner.clone_methods(images[1], s_exp, methods, lambda_k, mouth=mouth)
+    results = cloner.clone_methods(images[1], s_exp, methods, lambda_k, mouth=mouth, crop=expression.crop)
     placed = name if any(p is None for p in given) else None
     return {m: dataclasses.replace(r, landmarker=placed, warnings=said) for m, r in results.items()}

@@ -56,15 +56,24 @@ NEUTRAL_FACE = _neutral_face()
 
 @dataclass(frozen=True)
 class Photo:
-    """A photo and its landmarks."""
+    """What the role check takes of a photo: its landmarks and its eye-aligned grey crop (:func:`exprclone.eigenface.crop`).
 
-    image: np.ndarray
+    A clone whose lambda_k the DB metric chooses compares the same crop of the source's expression
+    (:func:`exprclone.metric.choose_lambda`): :func:`exprclone.clone_methods` makes it once for both.
+    """
+
     points: np.ndarray
+    crop: np.ndarray
+
+    @classmethod
+    def of(cls, image: np.ndarray, points: np.ndarray, layout: Layout) -> Photo:
+        """An ``(H, W, 3)`` photo's, with its ``(N, 2)`` landmarks."""
+        return cls(points, crop(image, points, layout))
 
 
 def identity_distance(a: Photo, b: Photo, layout: Layout) -> float:
     """How unlike two faces are, beyond an expression (see the module's notes): 0 for one photo twice."""
-    crops = normalise(np.stack([crop(p.image, p.points, layout)[IDENTITY_ROWS] for p in (a, b)]))
+    crops = normalise(np.stack([p.crop[IDENTITY_ROWS] for p in (a, b)]))
     idx = [k for k in layout.rigid if k not in layout.jaw]  # the nose bridge and the eye corners
     pa, pb = (p.points / geometry.interocular(p.points, layout) for p in (a, b))
     aligned = geometry.apply(geometry.fit_similarity(pa[idx], pb[idx]), pa[idx])

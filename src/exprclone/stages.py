@@ -53,6 +53,9 @@ class Expression:
         What local re-shaping gives each organ the height-to-width ratio of (Eqs. 1-2):
         ``points``, the source's own organs (the paper), or the target's organs moved by
         the source (:func:`exprclone.retarget.organ_reference`).
+    crop : ndarray of shape (S, S) or None
+        Its eye-aligned grey crop (:func:`exprclone.eigenface.crop`), whose eigenface features
+        the DB metric compares (``E_source_exp`` of Eq. 7): for a ``lambda_k`` to choose only.
     """
 
     image: np.ndarray
@@ -60,6 +63,7 @@ class Expression:
     lambda_k: float | str
     moving: np.ndarray
     organs: np.ndarray
+    crop: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -116,9 +120,8 @@ def elastic_stage(cloner: Cloner, expression: Expression, shapes: dict[str, Shap
     # the DB metric looks at 64-pixel crops: its candidates need no sub-pixel search (metric.CANDIDATE_PASSES)
     candidates = list(elastic.elastic_landmarks(gl, local, cloner.neighbours, lambdas, metric.CANDIDATE_PASSES))
     eigenfaces = cloner.eigenfaces or default_eigenfaces()
-    curve = metric.choose_lambda(
-        cloner.db_target, cloner.mesh, candidates, lambdas, expression.image, expression.points, eigenfaces, cloner.layout
-    )
+    assert expression.crop is not None  # Cloner.expression makes it for "auto"
+    curve = metric.choose_lambda(cloner.db_target, cloner.mesh, candidates, lambdas, expression.crop, eigenfaces, cloner.layout)
     return Shape(elastic.elastic_landmarks(gl, local, cloner.neighbours, curve.best), curve.best, curve)
 
 

@@ -32,6 +32,7 @@ from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .manifest import Row
 
 if TYPE_CHECKING:
+    from .. import role_check
     from ..cloner import Cloner
 
 #: glibc's ``mallopt`` parameters (malloc.h) and the largest mmap threshold it accepts on 64-bit
@@ -105,6 +106,7 @@ def detect(paths: list[str], landmarker: str = DEFAULT) -> list[tuple[np.ndarray
 
 def clone_rows(task: Task) -> list[Outcome]:
     """Clone the task's rows, writing each output; a row that fails says why and the others go on."""
+    from .. import role_check
     from ..cloner import Cloner
     from ..io.images import load_image
 
@@ -116,17 +118,19 @@ def clone_rows(task: Task) -> list[Outcome]:
             neutral, target = load_image(first.source_neutral), load_image(first.target_neutral)
             landmarks = task.landmarks[first.source_neutral], task.landmarks[first.target_neutral]
             cloner = Cloner(neutral, landmarks[0], target, landmarks[1], options=task.options.options)
+            photo = role_check.Photo.of(neutral, landmarks[0], cloner.layout)  # the source's neutral, for each row's role check
     except ExprCloneError as e:
         return [Outcome(row.number, "failed", str(e)) for row in task.rows]
     outcomes = []
     for row in task.rows:
-        outcomes.append(_clone_row(cloner, row, task, start))
+        outcomes.append(_clone_row(cloner, photo, row, task, start))
         start = time.perf_counter()
     return outcomes
 
 
-def _clone_row(cloner: Cloner, row: Row, task: Task, start: float) -> Outcome:
-    """One row on the prepared faces: its expression cloned by its method, the output written."""
+def _clone_row(cloner: Cloner, neutral: role_check.Photo, row: Row, task: Task, start: float) -> Outcome:
+    """One row on the prepared faces: its expression cloned by its method, the output written, its source's photos checked
+    (:func:`exprclone.role_check.judge_roles`; ``neutral`` is the source's neutral photo's)."""
     from .. import role_check
     from ..checks import parse_lambda
     from ..io.images import load_image, save_image
@@ -140,10 +144,10 @@ def _clone_row(cloner: Cloner, row: Row, task: Task, start: float) -> Outcome:
             lambda_k = parse_lambda(row.lambda_k if row.lambda_k is not None else task.options.lambda_k)
             expression = load_image(row.source_expression)
             points = task.landmarks[row.source_expression]
-            result = cloner.clone_methods(expression, points, (method,), lambda_k, mouth=task.options.mouth)
+            photo = role_check.Photo.of(expression, points, cloner.layout)
+            result = cloner.clone_methods(expression, points, (method,), lambda_k, mouth=task.options.mouth, crop=photo.crop)
             save_image(row.output, result[method].image, inputs=row.photos)
-            source = role_check.Photo(cloner.source_image, cloner.s_neu), role_check.Photo(expression, points)
-            said = tuple(role_check.judge_roles(*source, cloner.layout))
+            said = tuple(role_check.judge_roles(neutral, photo, cloner.layout))
     except ExprCloneError as e:
         return Outcome(row.number, "failed", str(e), seconds=time.perf_counter() - start)
     except Exception as e:  # a bug, not the input's fault: the row fails, the job goes on
