@@ -67,7 +67,7 @@ class Photo:
 
     @classmethod
     def of(cls, image: np.ndarray, points: np.ndarray, layout: Layout) -> Photo:
-        """An ``(H, W, 3)`` photo's, with its ``(N, 2)`` landmarks."""
+        """The role check's view of an ``(H, W, 3)`` photo with its ``(N, 2)`` landmarks."""
         return cls(points, crop(image, points, layout))
 
 
