@@ -36,7 +36,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from exprclone import METHODS, clone, clone_methods, elastic, global_warp, local_warp, metric, muscle, tps, warp
+from exprclone import METHODS, clone, clone_methods, eigenface, elastic, global_warp, local_warp, metric, muscle, tps, warp
 from exprclone import stages as stages_
 from exprclone.cloner import Cloner
 from exprclone.io.images import load_image
@@ -92,6 +92,7 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
     h = np.ones(len(centres))
     before = {name: shapes[name] for name in ("global", "local")}
     cands = list(elastic.elastic_landmarks(gl, lo, nb, lambdas, metric.CANDIDATE_PASSES))
+    source_crop = eigenface.crop(se_img, se, DLIB68)  # made with the role check's, before the DB
     cloner.ratio_faces  # the neutral faces prepared, once per pair
     return {
         "landmark detection (1 photo)": median_ms(lambda: default_detector().detect(tn_img), repeat),
@@ -105,7 +106,7 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
             lambda: stages_.elastic_stage(cloner, expression, before), repeat
         ),
         "  of which DB on given candidates": median_ms(
-            lambda: metric.choose_lambda(cloner.db_target, mesh, cands, lambdas, expression.crop, default_eigenfaces(), DLIB68), repeat
+            lambda: metric.choose_lambda(cloner.db_target, mesh, cands, lambdas, source_crop, default_eigenfaces(), DLIB68), repeat
         ),
         "warp (full image)": median_ms(lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles), repeat),
         "ERI (both source photos warped on its grid)": median_ms(lambda: cloner.ratio(rendered, expression), repeat),

@@ -201,3 +201,20 @@ def test_the_registries_hold_every_option_value():
     assert set(stages.GLOBAL_WARPERS) == set(options.GLOBAL_WARPS)
     assert set(stages.IMAGE_WARPERS) == set(options.IMAGE_WARPS)
     assert options.REGIONS == tuple(DLIB68.regions)
+
+
+def test_the_db_metric_compares_the_crop_it_is_given(pair):
+    """Cloner.clone_methods's ``crop`` (the role check's crop of the source expression) is what the DB metric compares:
+    the crop made from the photo gives the curve of no crop given; another face's crop moves the curve."""
+    from exprclone import eigenface
+    from exprclone.cloner import Cloner
+
+    (sn, se, tn), (sn_lm, se_lm, tn_lm) = pair
+    cloner = Cloner(sn, sn_lm, tn, tn_lm)
+
+    def curve(crop):
+        return cloner.clone_methods(se, se_lm, ("elastic",), crop=crop)["elastic"].db_curve.db
+
+    made = curve(None)
+    assert np.array_equal(curve(eigenface.crop(se, se_lm, DLIB68)), made)
+    assert not np.allclose(curve(eigenface.crop(sn, sn_lm, DLIB68)), made)

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from . import eigenface, eri, geometry, global_warp, lips, metric, mouth, mouth_fill, mouth_tone, muscle, retarget, teeth, warp
+from . import eri, geometry, global_warp, lips, metric, mouth, mouth_fill, mouth_tone, muscle, retarget, teeth, warp
 from .checks import check_face, check_lambda, check_options, options_from
 from .eigenface import Eigenfaces
 from .layout import DLIB68, Layout
@@ -229,7 +229,7 @@ class Cloner:
             As for :func:`exprclone.clone_methods`.
         crop : ndarray of shape (S, S), optional
             Its eye-aligned crop, when the caller has made it (the role check's,
-            :class:`exprclone.role_check.Photo`); made here when the DB metric needs it.
+            :class:`exprclone.role_check.Photo`); made here only if the DB metric needs it.
 
         Returns
         -------
@@ -246,9 +246,7 @@ class Cloner:
     def expression(self, image: np.ndarray, points: np.ndarray, lambda_k: float | str, crop: np.ndarray | None = None) -> Expression:
         """One source expression, prepared for the shape stages: with ``retarget``, its motion cleaned and the organs
         local re-shaping aims at made the target's (:mod:`exprclone.retarget`); without, the paper's (its own points).
-        With a ``lambda_k`` to choose, its eye-aligned crop (``crop`` if given) for the DB metric."""
-        if lambda_k == "auto" and crop is None:
-            crop = eigenface.crop(image, points, self.layout)
+        ``crop`` is its eye-aligned crop if the caller has made it (:attr:`Expression.crop`)."""
         points = lips.uncross(points, self.layout)
         if not self.options.retarget:
             return Expression(image, points, lambda_k, points, points, crop)

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from . import elastic, eri, geometry, global_warp, local_warp, metric, raster, shading, shrunk, tps, warp
+from . import eigenface, elastic, eri, geometry, global_warp, local_warp, metric, raster, shading, shrunk, tps, warp
 from .layout import Layout
 from .models import default_eigenfaces
 from .shrunk import Shrunk
@@ -55,7 +55,8 @@ class Expression:
         the source (:func:`exprclone.retarget.organ_reference`).
     crop : ndarray of shape (S, S) or None
         Its eye-aligned grey crop (:func:`exprclone.eigenface.crop`), whose eigenface features
-        the DB metric compares (``E_source_exp`` of Eq. 7): for a ``lambda_k`` to choose only.
+        the DB metric compares (``E_source_exp`` of Eq. 7), if the caller has made it (the
+        role check's); None leaves it to the elastic stage, made only when it chooses ``lambda_k``.
     """
 
     image: np.ndarray
@@ -120,8 +121,8 @@ def elastic_stage(cloner: Cloner, expression: Expression, shapes: dict[str, Shap
     # the DB metric looks at 64-pixel crops: its candidates need no sub-pixel search (metric.CANDIDATE_PASSES)
     candidates = list(elastic.elastic_landmarks(gl, local, cloner.neighbours, lambdas, metric.CANDIDATE_PASSES))
     eigenfaces = cloner.eigenfaces or default_eigenfaces()
-    assert expression.crop is not None  # Cloner.expression makes it for "auto"
-    curve = metric.choose_lambda(cloner.db_target, cloner.mesh, candidates, lambdas, expression.crop, eigenfaces, cloner.layout)
+    crop = eigenface.crop(expression.image, expression.points, cloner.layout) if expression.crop is None else expression.crop
+    curve = metric.choose_lambda(cloner.db_target, cloner.mesh, candidates, lambdas, crop, eigenfaces, cloner.layout)
     return Shape(elastic.elastic_landmarks(gl, local, cloner.neighbours, curve.best), curve.best, curve)
 
 

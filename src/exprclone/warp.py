@@ -287,7 +287,7 @@ def affines(labellings: Sequence[Labelling], src: np.ndarray) -> list[PiecewiseA
     d = np.concatenate([dst, np.ones((len(triangles), 3, 1))], axis=2)
     # Affine dst -> src per triangle: d @ coeffs = src. Slivers of (almost) no area,
     # such as the slit between closed lips, get the least-squares map of pinv.
-    solvable = np.abs(signed_areas(dst.reshape(-1, 2), np.arange(3 * len(dst)).reshape(-1, 3))) > 1e-6
+    solvable = np.concatenate([np.abs(signed_areas(lab.dst, lab.triangles)) > 1e-6 for lab in labellings])
     coeffs = np.empty((len(triangles), 3, 2))
     coeffs[solvable] = np.linalg.solve(d[solvable], src[triangles[solvable]])
     if not solvable.all():
