@@ -6,6 +6,7 @@ from changes import lit_from_the_side, lock_of_hair
 
 import exprclone
 from exprclone import eri, geometry, shading
+from exprclone.cloner import Cloner
 from exprclone.evaluation.scores import material_swaps
 from exprclone.layout import DLIB68
 
@@ -65,7 +66,21 @@ def test_a_fringe_that_moved_prints_nothing(photo, monkeypatch):
     assert np.abs(result.eri[swapped] - 1).max() < 0.01
     # without the tests of what is there, the fringe would print
     monkeypatch.setattr(shading, "moved", lambda labelling, *a: np.ones(labelling.labels.shape, np.float32))
-    monkeypatch.setattr(shading, "skin", lambda images, weight, *a, **k: np.ones(weight.shape, np.float32))
+    monkeypatch.setattr(shading, "skin", lambda colour, chroma, trust, weight, *a, **k: np.ones(weight.shape, np.float32))
     monkeypatch.setattr(eri, "texture", lambda energy, mean, window: np.ones_like(mean))
     ungated = exprclone.clone(sn, se, tn, method="e+md", landmarks=(sn_lm, se_lm, tn_lm))
     assert np.abs(ungated.eri[swapped] - 1).max() > 0.1
+
+
+def test_the_neutral_faces_are_measured_once_for_every_expression(photo, monkeypatch):
+    """The colours of the two neutral photos are measured when a Cloner first needs them, not again for each
+    expression (each frame of a video): only the expression's is measured per clone."""
+    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("126"), photo("126", "smile"), photo("003")
+    measured = []
+    colour = shading.colour
+    monkeypatch.setattr(shading, "colour", lambda rgb, sigma: measured.append(rgb.shape) or colour(rgb, sigma))
+    cloner = Cloner(sn, sn_lm, tn, tn_lm)
+    results = [cloner.clone_methods(se, se_lm, ("e+md",), 0.0)["e+md"] for _ in range(3)]
+    assert len(measured) == 2 + 3
+    assert np.abs(results[0].eri - 1).max() > 0.1  # the ratio was made
+    assert all(np.array_equal(r.image, results[0].image) for r in results[1:])

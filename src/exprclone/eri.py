@@ -152,6 +152,49 @@ def light_trend(log_ratio: np.ndarray, weight: np.ndarray, iterations: int = 8) 
     return (coef[0] + coef[1] * np.arange(w) / w + coef[2] * np.arange(h)[:, None] / h).astype(np.float32)
 
 
+#: the channels of the source's neutral photo as the ERI warps it (:func:`neutral_channels`): its luma and detail
+#: energy (:attr:`exprclone.shrunk.Shrunk.pixels`; the texture test is made after the warp, as on the expression
+#: photo), its chromaticity (two) and its skin trust (:func:`exprclone.shading.trust`), then zeros (OpenCV's remap
+#: is several times faster on eight channels than on five).
+N_LUMA, N_ENERGY, N_CHROMA, N_SKIN = 0, 1, slice(2, 4), 4
+
+
+def neutral_channels(pixels: np.ndarray, face: np.ndarray, sigma: float) -> tuple[np.ndarray, shading.Fit]:
+    """What the ERI takes of the source's neutral photo, measured once on its own shrunk grid.
+
+    Its colour and how far that is from its face's skin do not depend on the expression,
+    so they are measured on the photo's grid, where the photo is still, and warped to
+    each expression's geometry as they are (:func:`ratio_on_grid`) rather than measured
+    again after every warp (every frame of a video). Its colour model is fitted over its
+    face where the texture test (:func:`texture`) trusts it. The texture test itself is
+    made after the warp: measured before it, the test's fade was smeared by the warp's
+    resampling, and the hair of a fringe that moved (tests/test_fidelity.py) leaked into
+    the ratio.
+
+    Parameters
+    ----------
+    pixels : ndarray of shape (h, w, 5 or more)
+        The photo's block means (:attr:`exprclone.shrunk.Shrunk.pixels`, with its luma and detail energy).
+    face : ndarray of shape (h, w)
+        Its face (:func:`ratio_mask`).
+    sigma : float
+        :data:`FILTER_SIGMA` in pixels of its grid.
+
+    Returns
+    -------
+    channels : ndarray of shape (h, w, 8), float32
+        :data:`N_LUMA`, :data:`N_ENERGY`, :data:`N_CHROMA`, :data:`N_SKIN`.
+    hue : shading.Fit
+        Its chromaticity's model (:func:`exprclone.shading.skin`).
+    """
+    confidence = texture(pixels[..., shrunk.ENERGY], pixels[..., shrunk.LUMA], sigma)
+    colour, face = shading.colour(pixels, sigma), face * confidence
+    channels = np.zeros(pixels.shape[:2] + (8,), np.float32)
+    channels[..., N_LUMA], channels[..., N_ENERGY] = pixels[..., shrunk.LUMA], pixels[..., shrunk.ENERGY]
+    channels[..., N_CHROMA], channels[..., N_SKIN] = colour[..., :2], shading.trust(colour, face)
+    return channels, shading.robust_gaussian(colour[..., :2], raster.evenly(face))
+
+
 def expression_ratio(
     neutral_warped: np.ndarray,
     expression_warped: np.ndarray,
@@ -164,7 +207,9 @@ def expression_ratio(
 
     The ERI is low-pass filtered at ``FILTER_SIGMA * iod``, so everything after the
     photos' block means (:class:`exprclone.shrunk.Shrunk`) is computed on a copy shrunk by
-    :func:`filter_step` (:func:`ratio_on_grid`) and enlarged at the end (bilinear).
+    :func:`filter_step` (:func:`ratio_on_grid`) and enlarged at the end (bilinear). The
+    neutral photos are measured in this geometry (:func:`neutral_channels`), the target's
+    colour model fitted where the source's neutral photo is smooth skin.
 
     Parameters
     ----------
@@ -181,23 +226,26 @@ def expression_ratio(
     """
     step = min(filter_step(iod), *mask.shape)
     neutral, expression = (shrunk.grid_pixels(image, iod, step) for image in (neutral_warped, expression_warped))
-    colour = None if target is None else shrunk.grid_pixels(target, iod, step, detail=False)
+    small_mask, sigma = raster.shrink(mask, step), FILTER_SIGMA * iod / step
+    channels, hue = neutral_channels(neutral, small_mask, sigma)
+    if target is not None:
+        colour = shading.colour(shrunk.grid_pixels(target, iod, step, detail=False), sigma)
+        channels[..., N_SKIN] *= shading.trust(colour, small_mask * texture(neutral[..., shrunk.ENERGY], neutral[..., shrunk.LUMA], sigma))
     lips = None if exempt is None else raster.shrink(exempt, step)
-    small = ratio_on_grid(neutral, expression, colour, raster.shrink(mask, step), iod / step, lips, blocks=step > 1)
+    small = ratio_on_grid(channels, expression, small_mask, iod / step, lips, hue, blocks=step > 1)
     return raster.enlarge(small, mask.shape, step)
 
 
 def ratio_on_grid(
     neutral: np.ndarray,
     expression: np.ndarray,
-    target: np.ndarray | None,
     mask: np.ndarray,
     iod: float,
     exempt: np.ndarray | None = None,
-    fits: shading.Fits | None = None,
+    hue: shading.Fit = None,
     blocks: bool = True,
 ) -> np.ndarray:
-    """The ERI on the shrunk grid, from the three photos' block means there (:attr:`exprclone.shrunk.Shrunk.pixels`).
+    """The ERI on the shrunk grid, from the source's photos there.
 
     The ratio of the lumas counts where ``mask`` does, neither source photo is textured
     (:func:`texture`) and all show the same skin (:func:`exprclone.shading.skin`; but for
@@ -208,17 +256,17 @@ def ratio_on_grid(
 
     Parameters
     ----------
-    neutral, expression : ndarray of shape (h, w, 5 or more)
-        The source's photos in the target's final geometry: R, G, B, luma and detail energy (then any other channel,
-        unused).
-    target : ndarray of shape (h, w, 3 or more) or None
-        The target in that geometry: R, G, B (then any other channel, unused).
+    neutral : ndarray of shape (h, w, 8)
+        The source's neutral photo in the target's final geometry, measured on its own grid (:func:`neutral_channels`);
+        its :data:`N_SKIN` times the target's skin trust there (:func:`exprclone.shading.trust`) if a target is tested.
+    expression : ndarray of shape (h, w, 5 or more)
+        The expression photo's block means in that geometry (:attr:`exprclone.shrunk.Shrunk.pixels`).
     mask : ndarray of shape (h, w)
     iod : float
         The target face's inter-ocular distance in pixels of this grid.
     exempt : ndarray of shape (h, w), optional
-    fits : shading.Fits, optional
-        The colour models of the neutral photos, fitted once (:class:`exprclone.shading.Fits`); fitted here if None.
+    hue : shading.Fit
+        The neutral photo's chromaticity (:func:`neutral_channels`).
     blocks : bool
         Whether the grid's pixels are blocks of several, to be enlarged (:data:`GRID_VARIANCE`), or the photo's own.
 
@@ -228,13 +276,13 @@ def ratio_on_grid(
         ``1 + weight (ratio - 1)``: 1 where nothing is trusted.
     """
     sigma = FILTER_SIGMA * iod
-    y_neutral, y_expression = neutral[..., shrunk.LUMA], expression[..., shrunk.LUMA]
-    ratio = (y_expression + raster.EPS) / (y_neutral + raster.EPS)
+    y_expression = expression[..., shrunk.LUMA]
+    ratio = (y_expression + raster.EPS) / (neutral[..., N_LUMA] + raster.EPS)
     # the colour tests compare each pixel with the face where the geometry and the texture trust it
-    textures = (texture(image[..., shrunk.ENERGY], y, sigma) for image, y in ((neutral, y_neutral), (expression, y_expression)))
-    face = mask * np.minimum(*textures)
-    colours = tuple(shading.colour(image, sigma) for image in (neutral, expression) + (() if target is None else (target,)))
-    weight = face * shading.skin(colours, face, exempt, fits)
+    photos = ((neutral[..., N_ENERGY], neutral[..., N_LUMA]), (expression[..., shrunk.ENERGY], y_expression))
+    face = mask * np.minimum(*(texture(energy, luma, sigma) for energy, luma in photos))
+    colour = shading.colour(expression, sigma)
+    weight = face * shading.skin(colour, neutral[..., N_CHROMA], neutral[..., N_SKIN], face, exempt, hue)
     sigma = max(np.sqrt(max(sigma * sigma - (GRID_VARIANCE if blocks else 0.0), 0.0)), 0.5)
     ratio = cv2.GaussianBlur(weight * ratio, (0, 0), sigma) / np.maximum(cv2.GaussianBlur(weight, (0, 0), sigma), 1e-6)
     ratio = np.clip(ratio / np.exp(light_trend(np.log(np.maximum(ratio, 1e-3)), weight)), *CLAMP)

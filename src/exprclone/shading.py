@@ -17,7 +17,6 @@ only): what it removes is not expression.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
 
 import cv2
 import numpy as np
@@ -130,68 +129,65 @@ def fade_out(values: np.ndarray, centre: np.ndarray, inverse: np.ndarray) -> np.
     return np.clip((hi - dist) / (hi - lo), 0.0, 1.0).astype(np.float32)
 
 
-@dataclass(frozen=True)
-class Fits:
-    """The colour models of the photos that do not change between expressions (:func:`skin`): fitted once per pair of faces.
+def trust(colour: np.ndarray, face: np.ndarray) -> np.ndarray:
+    """How much each pixel of a neutral photo shows its face's skin, in [0, 1] (``(h, w)`` float32).
 
-    Attributes
-    ----------
-    neutral, target : Fit
-        The source's neutral photo's colour and the target's, in three dimensions (:func:`colour`).
-    hue : Fit
-        The neutral photo's chromaticity alone (its first two), the spread a change of hue is compared with.
+    Its colour (:func:`colour`) is compared with the face's own, a Gaussian fitted over
+    the pixels ``face`` (``(h, w)`` weights) trusts (:func:`robust_gaussian`, :func:`fade_out`): hair,
+    brows, lips, eyes, teeth, a highlight and the background lie far from it in most
+    people. All three colour components count: the luma tells dark hair from skin of
+    much the same hue. 1 everywhere when too few pixels are trusted.
     """
-
-    neutral: Fit
-    target: Fit
-    hue: Fit
-
-    @classmethod
-    def measure(cls, neutral: np.ndarray, neutral_face: np.ndarray, target: np.ndarray | None, target_face: np.ndarray) -> Fits:
-        """The models of the ``neutral`` and ``target`` colours (:func:`colour`), each over its own face (``(h, w)`` weights)."""
-        on_neutral = raster.evenly(neutral_face)
-        fit_target = None if target is None else robust_gaussian(target, raster.evenly(target_face))
-        return cls(robust_gaussian(neutral, on_neutral), fit_target, robust_gaussian(neutral[..., :2], on_neutral))
+    fit = robust_gaussian(colour, raster.evenly(face))
+    return np.ones(colour.shape[:2], np.float32) if fit is None else fade_out(colour, *fit)
 
 
-def skin(colours: tuple[np.ndarray, ...], weight: np.ndarray, exempt: np.ndarray | None = None, fits: Fits | None = None) -> np.ndarray:
-    """Trust that a pixel is the same skin in all of the photos whose ``colours`` are given, in [0, 1].
+def skin(
+    expression: np.ndarray,
+    neutral_chroma: np.ndarray,
+    neutral_trust: np.ndarray,
+    weight: np.ndarray,
+    exempt: np.ndarray | None = None,
+    hue: Fit = None,
+) -> np.ndarray:
+    """Trust that a pixel is the same skin in the source's two photos and the target, in [0, 1].
 
-    Each photo's colour (:func:`colour`) is compared with its face's own, a Gaussian
-    (:func:`robust_gaussian`): hair, brows, lips, eyes, teeth, a highlight and the
-    background lie far from it in most people. The expression photo is compared by its
-    chromaticity alone, as the expression shades it; the neutral photos by their luma
-    too, which tells dark hair from skin of much the same hue. The change of
-    chromaticity between the source's photos is compared with the spread of the neutral
-    one's, its median taken out (a change of the light's colour): skin whose hue changed
-    as much as skin differs from what is not skin did not change by shading.
+    The neutral photos (the source's, and the target) are compared with their faces'
+    own colours once, on their own grids (:func:`trust`), and come in warped,
+    ``neutral_trust``. The expression photo is compared here with its face's colour by
+    its chromaticity alone, as the expression shades it. The change of chromaticity
+    between the source's photos is compared with the spread of the neutral one's
+    (``hue``), its median taken out (a change of the light's colour): skin whose hue
+    changed as much as skin differs from what is not skin did not change by shading.
 
     Parameters
     ----------
-    colours : tuple of ndarray of shape (h, w, 3)
-        The colours of the source's neutral and expression photos warped alike, then of
-        any other neutral photo in the same geometry (the target), on the shrunk grid.
+    expression : ndarray of shape (h, w, 3)
+        The colour (:func:`colour`) of the source's expression photo in the target's
+        final geometry, on the shrunk grid.
+    neutral_chroma : ndarray of shape (h, w, 2)
+        The chromaticity of the source's neutral photo (the first two of its colour), warped alike.
+    neutral_trust : ndarray of shape (h, w)
+        :func:`trust` of the neutral photos, warped alike, multiplied.
     weight : ndarray of shape (h, w)
-        The trusted face; the expression's model is fitted there, and so are the others unless ``fits`` gives them.
+        The trusted face: the expression's model and the change's median are taken there.
     exempt : ndarray of shape (h, w), optional
         Face that is trusted whatever its colour (:func:`lips`).
-    fits : Fits, optional
-        The neutral photos' models, fitted once on their own faces (:meth:`Fits.measure`).
+    hue : Fit
+        The neutral photo's chromaticity, fitted over its face (:func:`robust_gaussian`); None leaves the change untested.
 
     Returns
     -------
     ndarray of shape (h, w), float32
     """
-    out, trusted = np.ones(weight.shape, np.float32), raster.evenly(weight)
-    if fits is None:
-        fits = Fits.measure(colours[0], weight, colours[2] if len(colours) > 2 else None, weight)
-    models = (fits.neutral, robust_gaussian(colours[1][..., :2], trusted)) + ((fits.target,) if len(colours) > 2 else ())
-    for c, fit in zip(colours, models):
-        if fit is not None:
-            out *= fade_out(c[..., : len(fit[0])], *fit)
-    if fits.hue is not None and len(trusted) >= MIN_PIXELS:
-        change = colours[1][..., :2] - colours[0][..., :2]
-        out *= fade_out(change, np.median(change[np.unravel_index(trusted, change.shape[:2])], 0), fits.hue[1])
+    out, trusted = neutral_trust.astype(np.float32), raster.evenly(weight)
+    chroma = expression[..., :2]
+    fit = robust_gaussian(chroma, trusted)
+    if fit is not None:
+        out *= fade_out(chroma, *fit)
+    if hue is not None and len(trusted) >= MIN_PIXELS:
+        change = chroma - neutral_chroma
+        out *= fade_out(change, np.median(change[np.unravel_index(trusted, change.shape[:2])], 0), hue[1])
     return out if exempt is None else np.maximum(out, exempt)
 
 

@@ -94,6 +94,8 @@ class Shrunk:
         always taken them) and, for a source's photo, of the luma (:data:`LUMA`, not rounded:
         Liu's ratio divides it) and of :func:`detail_energy` (:data:`ENERGY`), then zeros:
         OpenCV's remap is several times faster on four or eight channels than on three or five.
+        A neutral photo's are replaced by what the ERI measures of them, once
+        (:class:`exprclone.stages.RatioFaces`).
     origin : ndarray of shape (2,)
         Where the first block starts in the photo (pixel x, y).
     step : int
@@ -142,7 +144,8 @@ class Shrunk:
 
         Returns
         -------
-        ndarray of shape (h, w, 4) or (h, w, 8), float32
+        ndarray of shape (h, w) or (h, w, C), float32
+            As :attr:`pixels`.
         """
         src = grid_points(source - self.origin, self.step)
         return warp(self.pixels, src, labelling.dst, mesh, labelling.labels.shape, labelling=labelling)

@@ -10,6 +10,7 @@ The names themselves, and what a user may choose, are :mod:`exprclone.options`'.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
@@ -190,41 +191,43 @@ IMAGE_WARPERS: dict[str, ImageWarper] = {"mesh": mesh_warp, "tps": tps_warp}
 
 @dataclass(frozen=True)
 class RatioFaces:
-    """What the ERI takes of the two neutral faces, the same for every expression: prepared once (:meth:`prepare`).
+    """What the ERI takes of the two neutral faces, the same for every expression: measured once (:meth:`prepare`).
 
     Attributes
     ----------
     neutral : Shrunk
-        The source's neutral photo on its shrunk grid (:class:`exprclone.shrunk.Shrunk`), over its face.
+        The source's neutral photo on its shrunk grid over its face (:class:`exprclone.shrunk.Shrunk`), its pixels
+        what the ERI takes of it (:func:`exprclone.eri.neutral_channels`).
     target : Shrunk
-        The target photo likewise, its colour only.
-    fits : shading.Fits
-        Their colour models, each fitted over its own face (:class:`exprclone.shading.Fits`).
+        The target photo likewise, its pixels its skin trust (:func:`exprclone.shading.trust`).
+    hue : shading.Fit
+        The source's neutral chromaticity (:func:`exprclone.eri.neutral_channels`).
     iod : float
         The source's inter-ocular distance in its photos: the scale its expression photos are shrunk at.
     """
 
     neutral: Shrunk
     target: Shrunk
-    fits: shading.Fits
+    hue: shading.Fit
     iod: float
 
     @classmethod
     def prepare(cls, mesh: warp.Mesh, source: np.ndarray, source_ctrl: np.ndarray, target: np.ndarray, layout: Layout) -> RatioFaces:
-        """Both neutral photos shrunk (the source's with the control points ``source_ctrl`` of ``mesh`` on it) and their colours fitted."""
-        photos, fits = [], []
+        """Both neutral photos shrunk (the source's with the control points ``source_ctrl`` of ``mesh`` on it) and measured
+        over their faces."""
+        measured = []
         for image, ctrl, detail in ((source, source_ctrl, True), (target, mesh.points, False)):
             iod = geometry.interocular(ctrl[: mesh.n_landmarks], layout)
             photo = Shrunk.of(image, ctrl[: mesh.n_moving], iod, eri.filter_step(iod), PHOTO_MARGIN * iod, detail)
             at = shrunk.grid_points(ctrl - photo.origin, photo.step)
             grid = photo.pixels.shape[:2]
             face = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // photo.step))
-            sigma = eri.FILTER_SIGMA * iod / photo.step
-            if detail:  # where the texture test trusts it, as the ERI's fits are
-                face *= eri.texture(photo.pixels[..., shrunk.ENERGY], photo.pixels[..., shrunk.LUMA], sigma)
-            photos.append(photo)
-            fits += [shading.colour(photo.pixels, sigma), face]
-        return cls(photos[0], photos[1], shading.Fits.measure(*fits), geometry.interocular(source_ctrl[: mesh.n_landmarks], layout))
+            measured.append((photo, face, eri.FILTER_SIGMA * iod / photo.step))
+        (neutral, neutral_face, sigma), (photo, target_face, target_sigma) = measured
+        channels, hue = eri.neutral_channels(neutral.pixels, neutral_face, sigma)
+        trust = shading.trust(shading.colour(photo.pixels, target_sigma), target_face)
+        iod = geometry.interocular(source_ctrl[: mesh.n_landmarks], layout)
+        return cls(dataclasses.replace(neutral, pixels=channels), dataclasses.replace(photo, pixels=trust), hue, iod)
 
     def expression(self, image: np.ndarray, ctrl: np.ndarray, mesh: warp.Mesh) -> Shrunk:
         """A source expression photo, the control points ``ctrl`` of ``mesh`` on it, shrunk as its neutral photo is."""
@@ -245,9 +248,10 @@ def ratio_image(
 
     The ratio is 1 off the face, so it is computed in the face's box only, on its grid
     shrunk by :func:`exprclone.eri.filter_step`: the three photos, shrunk over their faces
-    (:class:`exprclone.shrunk.Shrunk`), are warped there (:func:`exprclone.eri.ratio_on_grid`). It counts
-    only where the expression moves the skin and all three photos show the same skin
-    there (its ``mask`` times :func:`exprclone.shading.moved`, the lips exempt from the colour test).
+    (:class:`exprclone.shrunk.Shrunk`), are warped there (:func:`exprclone.eri.ratio_on_grid`); the
+    two neutral ones as ``faces`` measured them once. It counts only where the expression
+    moves the skin and all three photos show the same skin there (its ``mask`` times
+    :func:`exprclone.shading.moved`, the lips exempt from the colour test).
 
     Parameters
     ----------
@@ -283,11 +287,12 @@ def ratio_image(
     at = shrunk.grid_points(local, step)
     labelling = warp.Labelling.of(at, mesh.triangles, grid)  # one for the three warps and the motion's mask
     photos = zip((faces.neutral, expression, faces.target), (*source_ctrl, mesh.points))
-    neutral, moved_photo, target_photo = (photo.warped(image_warp, ctrl, labelling, mesh) for photo, ctrl in photos)
+    neutral, moved_photo, target_trust = (photo.warped(image_warp, ctrl, labelling, mesh) for photo, ctrl in photos)
+    neutral[..., eri.N_SKIN] *= target_trust
     mask = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // step))
     mask *= shading.moved(labelling, motion, iod / step, max(1, MOTION_SHRINK // step))
     lip_region = shading.lips(grid, at[: mesh.n_landmarks], layout)
-    small = eri.ratio_on_grid(neutral, moved_photo, target_photo, mask, iod / step, lip_region, faces.fits, step > 1)
+    small = eri.ratio_on_grid(neutral, moved_photo, mask, iod / step, lip_region, faces.hue, step > 1)
     out = np.ones(shape[:2], np.float32)
     out[box] = raster.enlarge(small, size, step)
     return out, box
