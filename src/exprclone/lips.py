@@ -16,6 +16,8 @@ from .layout import Layout
 
 #: how far outside a polygon (pixels) a point may be and still count as on its edge.
 TOLERANCE = 1e-6
+#: how near (pixels) to the farthest place its edges allow an inner-lip point is put back (:func:`inside_outer_lips`).
+PRECISION = 1e-3
 
 
 def uncross(landmarks: np.ndarray, layout: Layout) -> np.ndarray:
@@ -55,7 +57,7 @@ def inside_outer_lips(landmarks: np.ndarray, layout: Layout) -> np.ndarray:
     When an inner-lip point lies outside the outer lips, or an inner edge leaves them,
     the inner points are taken to the centre of the outer lips (the mean of their
     points) and put back one at a time, each as far along the way back to where it was
-    as its two edges allow (by bisection): first the points that were inside, then the
+    as its two edges allow (by bisection, to :data:`PRECISION`): first the points that were inside, then the
     others. A point is only ever placed where both its edges, to neighbours placed or
     still at the centre, lie inside; a point at the centre has edges inside, so this
     always succeeds whenever the centre is inside the outer lips (any real mouth). The
@@ -104,7 +106,8 @@ def inside_outer_lips(landmarks: np.ndarray, layout: Layout) -> np.ndarray:
             return all(segment_inside(at(s), q, outer) for q in edges)
 
         lo, hi = (1.0, 1.0) if fits(1.0) else (0.0, 1.0)
-        for _ in range(40 if lo < hi else 0):
+        reach = float(np.linalg.norm(goal[k] - centre))
+        while (hi - lo) * reach > PRECISION:
             mid = (lo + hi) / 2
             lo, hi = (mid, hi) if fits(mid) else (lo, mid)
         out[ring[k]] = at(lo)
