@@ -165,9 +165,8 @@ def neutral_channels(pixels: np.ndarray, face: np.ndarray, sigma: float) -> tupl
     Its colour and how far that is from its face's skin do not depend on the expression,
     so they are measured on the photo's grid, where the photo is still, and warped to
     each expression's geometry as they are (:func:`ratio_on_grid`) rather than measured
-    again after every warp (every frame of a video). Its colour model is fitted over its
-    face where the texture test (:func:`texture`) trusts it. The texture test itself is
-    made after the warp: measured before it, the test's fade was smeared by the warp's
+    again after every warp (every frame of a video). The texture test (:func:`texture`) is
+    made after the warp: measured before it, its fade was smeared by the warp's
     resampling, and the hair of a fringe that moved (tests/test_fidelity.py) leaked into
     the ratio.
 
@@ -176,7 +175,7 @@ def neutral_channels(pixels: np.ndarray, face: np.ndarray, sigma: float) -> tupl
     pixels : ndarray of shape (h, w, 5 or more)
         The photo's block means (:attr:`exprclone.shrunk.Shrunk.pixels`, with its luma and detail energy).
     face : ndarray of shape (h, w)
-        Its face (:func:`ratio_mask`).
+        Its face where the texture test trusts it (:func:`ratio_mask` times :func:`texture`): its colour model's pixels.
     sigma : float
         :data:`FILTER_SIGMA` in pixels of its grid.
 
@@ -187,8 +186,7 @@ def neutral_channels(pixels: np.ndarray, face: np.ndarray, sigma: float) -> tupl
     hue : shading.Fit
         Its chromaticity's model (:func:`exprclone.shading.skin`).
     """
-    confidence = texture(pixels[..., shrunk.ENERGY], pixels[..., shrunk.LUMA], sigma)
-    colour, face = shading.colour(pixels, sigma), face * confidence
+    colour = shading.colour(pixels, sigma)
     channels = np.zeros(pixels.shape[:2] + (8,), np.float32)
     channels[..., N_LUMA], channels[..., N_ENERGY] = pixels[..., shrunk.LUMA], pixels[..., shrunk.ENERGY]
     channels[..., N_CHROMA], channels[..., N_SKIN] = colour[..., :2], shading.trust(colour, face)
@@ -227,10 +225,10 @@ def expression_ratio(
     step = min(filter_step(iod), *mask.shape)
     neutral, expression = (shrunk.grid_pixels(image, iod, step) for image in (neutral_warped, expression_warped))
     small_mask, sigma = raster.shrink(mask, step), FILTER_SIGMA * iod / step
-    channels, hue = neutral_channels(neutral, small_mask, sigma)
+    face = small_mask * texture(neutral[..., shrunk.ENERGY], neutral[..., shrunk.LUMA], sigma)
+    channels, hue = neutral_channels(neutral, face, sigma)
     if target is not None:
-        colour = shading.colour(shrunk.grid_pixels(target, iod, step, detail=False), sigma)
-        channels[..., N_SKIN] *= shading.trust(colour, small_mask * texture(neutral[..., shrunk.ENERGY], neutral[..., shrunk.LUMA], sigma))
+        channels[..., N_SKIN] *= shading.trust(shading.colour(shrunk.grid_pixels(target, iod, step, detail=False), sigma), face)
     lips = None if exempt is None else raster.shrink(exempt, step)
     small = ratio_on_grid(channels, expression, small_mask, iod / step, lips, hue, blocks=step > 1)
     return raster.enlarge(small, mask.shape, step)

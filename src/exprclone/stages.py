@@ -222,7 +222,10 @@ class RatioFaces:
             at = shrunk.grid_points(ctrl - photo.origin, photo.step)
             grid = photo.pixels.shape[:2]
             face = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // photo.step))
-            measured.append((photo, face, eri.FILTER_SIGMA * iod / photo.step))
+            sigma = eri.FILTER_SIGMA * iod / photo.step
+            if detail:  # where the texture test trusts it, as the ERI's colour tests do
+                face *= eri.texture(photo.pixels[..., shrunk.ENERGY], photo.pixels[..., shrunk.LUMA], sigma)
+            measured.append((photo, face, sigma))
         (neutral, neutral_face, sigma), (photo, target_face, target_sigma) = measured
         channels, hue = eri.neutral_channels(neutral.pixels, neutral_face, sigma)
         trust = shading.trust(shading.colour(photo.pixels, target_sigma), target_face)
