@@ -95,7 +95,8 @@ class Shrunk:
         Liu's ratio divides it) and of :func:`detail_energy` (:data:`ENERGY`), then zeros:
         OpenCV's remap is several times faster on four or eight channels than on three or five.
         A neutral photo's are replaced by what the ERI measures of them, once
-        (:class:`exprclone.stages.RatioFaces`).
+        (:class:`exprclone.stages.RatioFaces`): eight channels of the source's, the target's
+        skin trust alone, ``(h, w)``.
     origin : ndarray of shape (2,)
         Where the first block starts in the photo (pixel x, y).
     step : int
