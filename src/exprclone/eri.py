@@ -227,16 +227,16 @@ def expression_ratio(
     small_mask, sigma = raster.shrink(mask, step), FILTER_SIGMA * iod / step
     face = small_mask * texture(neutral[..., shrunk.ENERGY], neutral[..., shrunk.LUMA], sigma)
     channels, hue = neutral_channels(neutral, face, sigma)
-    if target is not None:
-        channels[..., N_SKIN] *= shading.trust(shading.colour(shrunk.grid_pixels(target, iod, step, detail=False), sigma), face)
+    trust = None if target is None else shading.trust(shading.colour(shrunk.grid_pixels(target, iod, step, detail=False), sigma), face)
     lips = None if exempt is None else raster.shrink(exempt, step)
-    small = ratio_on_grid(channels, expression, small_mask, iod / step, lips, hue, blocks=step > 1)
+    small = ratio_on_grid(channels, expression, trust, small_mask, iod / step, lips, hue, blocks=step > 1)
     return raster.enlarge(small, mask.shape, step)
 
 
 def ratio_on_grid(
     neutral: np.ndarray,
     expression: np.ndarray,
+    target: np.ndarray | None,
     mask: np.ndarray,
     iod: float,
     exempt: np.ndarray | None = None,
@@ -255,10 +255,11 @@ def ratio_on_grid(
     Parameters
     ----------
     neutral : ndarray of shape (h, w, 8)
-        The source's neutral photo in the target's final geometry, measured on its own grid (:func:`neutral_channels`);
-        its :data:`N_SKIN` times the target's skin trust there (:func:`exprclone.shading.trust`) if a target is tested.
+        The source's neutral photo in the target's final geometry, measured on its own grid (:func:`neutral_channels`).
     expression : ndarray of shape (h, w, 5 or more)
         The expression photo's block means in that geometry (:attr:`exprclone.shrunk.Shrunk.pixels`).
+    target : ndarray of shape (h, w) or None
+        The target's skin trust in that geometry (:func:`exprclone.shading.trust`); None tests no target.
     mask : ndarray of shape (h, w)
     iod : float
         The target face's inter-ocular distance in pixels of this grid.
@@ -280,7 +281,8 @@ def ratio_on_grid(
     photos = ((neutral[..., N_ENERGY], neutral[..., N_LUMA]), (expression[..., shrunk.ENERGY], y_expression))
     face = mask * np.minimum(*(texture(energy, luma, sigma) for energy, luma in photos))
     colour = shading.colour(expression, sigma)
-    weight = face * shading.skin(colour, neutral[..., N_CHROMA], neutral[..., N_SKIN], face, exempt, hue)
+    trust = neutral[..., N_SKIN] if target is None else neutral[..., N_SKIN] * target
+    weight = face * shading.skin(colour, neutral[..., N_CHROMA], trust, face, exempt, hue)
     sigma = max(np.sqrt(max(sigma * sigma - (GRID_VARIANCE if blocks else 0.0), 0.0)), 0.5)
     ratio = cv2.GaussianBlur(weight * ratio, (0, 0), sigma) / np.maximum(cv2.GaussianBlur(weight, (0, 0), sigma), 1e-6)
     ratio = np.clip(ratio / np.exp(light_trend(np.log(np.maximum(ratio, 1e-3)), weight)), *CLAMP)

@@ -226,11 +226,11 @@ class RatioFaces:
             if detail:  # where the texture test trusts it, as the ERI's colour tests do
                 face *= eri.texture(photo.pixels[..., shrunk.ENERGY], photo.pixels[..., shrunk.LUMA], sigma)
             measured.append((photo, face, sigma))
-        (neutral, neutral_face, sigma), (photo, target_face, target_sigma) = measured
+        (neutral, neutral_face, sigma), (target_photo, target_face, target_sigma) = measured
         channels, hue = eri.neutral_channels(neutral.pixels, neutral_face, sigma)
-        trust = shading.trust(shading.colour(photo.pixels, target_sigma), target_face)
+        trust = shading.trust(shading.colour(target_photo.pixels, target_sigma), target_face)
         iod = geometry.interocular(source_ctrl[: mesh.n_landmarks], layout)
-        return cls(dataclasses.replace(neutral, pixels=channels), dataclasses.replace(photo, pixels=trust), hue, iod)
+        return cls(dataclasses.replace(neutral, pixels=channels), dataclasses.replace(target_photo, pixels=trust), hue, iod)
 
     def expression(self, image: np.ndarray, ctrl: np.ndarray, mesh: warp.Mesh) -> Shrunk:
         """A source expression photo, the control points ``ctrl`` of ``mesh`` on it, shrunk as its neutral photo is."""
@@ -291,11 +291,10 @@ def ratio_image(
     labelling = warp.Labelling.of(at, mesh.triangles, grid)  # one for the three warps and the motion's mask
     photos = zip((faces.neutral, expression, faces.target), (*source_ctrl, mesh.points))
     neutral, moved_photo, target_trust = (photo.warped(image_warp, ctrl, labelling, mesh) for photo, ctrl in photos)
-    neutral[..., eri.N_SKIN] *= target_trust
     mask = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // step))
     mask *= shading.moved(labelling, motion, iod / step, max(1, MOTION_SHRINK // step))
     lip_region = shading.lips(grid, at[: mesh.n_landmarks], layout)
-    small = eri.ratio_on_grid(neutral, moved_photo, mask, iod / step, lip_region, faces.hue, step > 1)
+    small = eri.ratio_on_grid(neutral, moved_photo, target_trust, mask, iod / step, lip_region, faces.hue, step > 1)
     out = np.ones(shape[:2], np.float32)
     out[box] = raster.enlarge(small, size, step)
     return out, box
