@@ -8,9 +8,13 @@ warm-up pass, in milliseconds per frame and frames per second:
   * landmarks: our tracker against the peer, dlib's detector plus shape predictor on
     every frame;
   * rendering (landmarks known, lambda_k fixed): global, elastic (no detail steps),
-    elastic+eri and e+md, so the differences show what each stage costs;
+    elastic+eri and e+md in turn, so the differences show what each stage costs;
+  * e+md's detail steps each alone, on every frame's own geometry: the ERI, the MD mask
+    with Eq. (9), the mouth interior;
   * the whole ``exprclone video`` job in-process (three decoding passes, tracking,
-    lambda_k chosen once, rendering, encoding with sound) for elastic and for e+md.
+    lambda_k chosen once, rendering, encoding with sound) for elastic and for e+md in turn (both
+    see the same load), their ratio, and how much more than elastic's the e+md job may take at
+    :data:`TARGET` of elastic's fps.
 """
 
 from __future__ import annotations
@@ -23,21 +27,48 @@ import warnings
 from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
-from run import median_ms
+from run import interleaved_ms, median_ms
 
 from exprclone import cli, drive, tracking
+from exprclone.cloner import Cloner
 from exprclone.io.frames import resize_portrait
 from exprclone.io.images import load_image
 from exprclone.io.video import probe, read_frames, write_video
+from exprclone.methods import lookup
 from exprclone.models import default_detector
 
 SIZE = 512
+#: the speed target of the video job: e+md at this share of elastic's fps.
+TARGET = 0.85
 OUT = os.path.join(tempfile.gettempdir(), "exprclone-bench.mp4")
 
 
 def per_frame(rows: dict[str, float], frames: int) -> None:
     for name, ms in rows.items():
         print(f"  {name:55s} {ms / frames:7.1f} ms/frame {1000 * frames / ms:7.1f} fps")
+
+
+def detail_steps(cloner: Cloner, frames: list, points, lambda_k: float, repeat: int) -> dict[str, float]:
+    """e+md's detail steps (:meth:`Cloner.details`) each alone over the frames, on every frame's own FI and ERI."""
+    method = lookup(("e+md",))[0]
+    inputs = []
+    for frame, p in zip(frames, points):
+        expression = cloner.expression(frame, p, lambda_k)
+        rendered = cloner.render(cloner.shapes(expression, {"elastic"})["elastic"].points)
+        inputs.append((expression, rendered, cloner.ratio(rendered, expression)))
+    final = cloner.mesh.n_landmarks
+
+    def details(mouth: bool) -> None:
+        for expression, rendered, ratio in inputs:
+            cloner.details(method, expression, rendered.image, rendered.control[:final], ratio, mouth)
+
+    steps = {
+        "ERI (the three photos on its grid, its tests)": median_ms(lambda: [cloner.ratio(r, e) for e, r, _ in inputs], repeat),
+        "MD mask and Eq. (9)": median_ms(lambda: details(False), repeat),
+        "MD mask, Eq. (9) and the mouth interior": median_ms(lambda: details(True), repeat),
+    }
+    steps["  of which the mouth interior"] = steps["MD mask, Eq. (9) and the mouth interior"] - steps["MD mask and Eq. (9)"]
+    return steps
 
 
 def main() -> None:
@@ -75,15 +106,17 @@ def main() -> None:
     per_frame({"tracker (detect once, follow, check every 5 frames)": follow, "peer: detector + predictor on every frame": detect}, n)
     print(f"  tracker is {detect / follow:.1f}x faster than detecting every frame")
 
-    print(f"\nrendering, landmarks known, lambda_k fixed ({lam:g})")
-    render = {}
-    for method in ("global", "elastic", "elastic+eri", "e+md"):
-        d = drive.Driver(recording.driver.cloner, method, lam)
-        render[method] = median_ms(lambda d=d: sum(1 for _ in d.frames(frames, recording.points)), args.repeat)
+    print(f"\nrendering, landmarks known, lambda_k fixed ({lam:g}), in turn")
+    drivers = {method: drive.Driver(recording.driver.cloner, method, lam) for method in ("global", "elastic", "elastic+eri", "e+md")}
+    render = interleaved_ms({m: lambda d=d: sum(1 for _ in d.frames(frames, recording.points)) for m, d in drivers.items()}, args.repeat)
     per_frame(render, n)
-    print(f"  the e+md detail steps (ERI, MD, mouth) cost {(render['e+md'] - render['elastic']) / n:.1f} ms/frame")
+    detail = (render["e+md"] - render["elastic"]) / n
+    print(f"  the e+md detail steps (ERI, MD, mouth) cost {detail:.1f} ms/frame")
 
-    print("\nthe whole `exprclone video` job (decode three times, track, choose lambda_k, render, encode with sound)")
+    print("\ne+md's detail steps each alone, landmarks known")
+    per_frame(detail_steps(recording.driver.cloner, frames, recording.points, lam, args.repeat), n)
+
+    print("\nthe whole `exprclone video` job (decode three times, track, choose lambda_k, render, encode with sound), in turn")
     jobs = {}
     for method in ("elastic", "e+md"):
         argv = ["video", str(portrait_path), clip, "-o", OUT, "--size", str(SIZE), "--method", method]
@@ -92,8 +125,12 @@ def main() -> None:
             with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()), warnings.catch_warnings():
                 assert cli.main(argv) == 0
 
-        jobs[f"exprclone video --method {method}"] = median_ms(job, args.repeat)
-    per_frame(jobs, n)
+        jobs[f"exprclone video --method {method}"] = job
+    times = interleaved_ms(jobs, args.repeat)
+    per_frame(times, n)
+    elastic, emd = (times[f"exprclone video --method {m}"] / n for m in ("elastic", "e+md"))
+    print(f"  e+md runs at {elastic / emd:.2f}x the fps of elastic, taking {emd - elastic:.1f} ms/frame more")
+    print(f"  at {TARGET}x it would take at most {elastic / TARGET - elastic:.1f} ms/frame more (its detail steps: {detail:.1f})")
     os.unlink(OUT)
 
 
