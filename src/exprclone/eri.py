@@ -154,8 +154,7 @@ def light_trend(log_ratio: np.ndarray, weight: np.ndarray, iterations: int = 8) 
 
 #: the channels of the source's neutral photo as the ERI warps it (:func:`neutral_channels`): its luma and detail
 #: energy (:attr:`exprclone.shrunk.Shrunk.pixels`; the texture test is made after the warp, as on the expression
-#: photo), its chromaticity (two) and its skin trust (:func:`exprclone.shading.trust`), then zeros (OpenCV's remap
-#: is several times faster on eight channels than on five).
+#: photo), its chromaticity (two) and its skin trust (:func:`exprclone.shading.trust`).
 N_LUMA, N_ENERGY, N_CHROMA, N_SKIN = 0, 1, slice(2, 4), 4
 
 
@@ -172,7 +171,7 @@ def neutral_channels(pixels: np.ndarray, face: np.ndarray, sigma: float) -> tupl
 
     Parameters
     ----------
-    pixels : ndarray of shape (h, w, 5 or more)
+    pixels : ndarray of shape (h, w, 5)
         The photo's block means (:attr:`exprclone.shrunk.Shrunk.pixels`, with its luma and detail energy).
     face : ndarray of shape (h, w)
         Its face where the texture test trusts it (:func:`ratio_mask` times :func:`texture`): its colour model's pixels.
@@ -181,13 +180,13 @@ def neutral_channels(pixels: np.ndarray, face: np.ndarray, sigma: float) -> tupl
 
     Returns
     -------
-    channels : ndarray of shape (h, w, 8), float32
+    channels : ndarray of shape (h, w, 5), float32
         :data:`N_LUMA`, :data:`N_ENERGY`, :data:`N_CHROMA`, :data:`N_SKIN`.
     hue : shading.Fit
         Its chromaticity's model (:func:`exprclone.shading.skin`).
     """
     colour = shading.colour(pixels, sigma)
-    channels = np.zeros(pixels.shape[:2] + (8,), np.float32)
+    channels = np.empty(pixels.shape[:2] + (5,), np.float32)
     channels[..., N_LUMA], channels[..., N_ENERGY] = pixels[..., shrunk.LUMA], pixels[..., shrunk.ENERGY]
     channels[..., N_CHROMA], channels[..., N_SKIN] = colour[..., :2], shading.trust(colour, face)
     return channels, shading.robust_gaussian(colour[..., :2], raster.evenly(face))
@@ -254,9 +253,9 @@ def ratio_on_grid(
 
     Parameters
     ----------
-    neutral : ndarray of shape (h, w, 8)
+    neutral : ndarray of shape (h, w, 5)
         The source's neutral photo in the target's final geometry, measured on its own grid (:func:`neutral_channels`).
-    expression : ndarray of shape (h, w, 5 or more)
+    expression : ndarray of shape (h, w, 5)
         The expression photo's block means in that geometry (:attr:`exprclone.shrunk.Shrunk.pixels`).
     target : ndarray of shape (h, w) or None
         The target's skin trust in that geometry (:func:`exprclone.shading.trust`); None tests no target.

@@ -74,7 +74,7 @@ def grid_pixels(image: np.ndarray, iod: float, step: int, detail: bool = True) -
     its luma and its detail's energy, of which the target's colour needs neither.
     """
     colour = raster.shrink(image, step)
-    pixels = np.zeros(colour.shape[:2] + (8 if detail else 4,), np.float32)
+    pixels = np.empty(colour.shape[:2] + (5 if detail else 3,), np.float32)
     pixels[..., :3] = colour / np.float32(255.0)
     if detail:
         luma = raster.luma(image).astype(np.float32) / 255.0
@@ -89,13 +89,12 @@ class Shrunk:
 
     Attributes
     ----------
-    pixels : ndarray of shape (h, w, 4) or (h, w, 8), float32
+    pixels : ndarray of shape (h, w, 3) or (h, w, 5), float32
         Block means of R, G, B (in [0, 1], rounded to 8 bits as the colour tests have
         always taken them) and, for a source's photo, of the luma (:data:`LUMA`, not rounded:
-        Liu's ratio divides it) and of :func:`detail_energy` (:data:`ENERGY`), then zeros:
-        OpenCV's remap is several times faster on four or eight channels than on three or five.
+        Liu's ratio divides it) and of :func:`detail_energy` (:data:`ENERGY`).
         A neutral photo's are replaced by what the ERI measures of them, once
-        (:class:`exprclone.stages.RatioFaces`): eight channels of the source's, the target's
+        (:class:`exprclone.stages.RatioFaces`): five channels of the source's, the target's
         skin trust alone, ``(h, w)``.
     origin : ndarray of shape (2,)
         Where the first block starts in the photo (pixel x, y).
