@@ -161,7 +161,7 @@ class Spline:
         # OpenCV's product, not numpy's: OpenBLAS's threads wait long for a busy CPU (ten times a product's work)
         return (
             # OpenCV's stubs refuse None for src3, which the C++ API takes as noArray() (no third term)
-            cv2.gemm(kernel(dx * dx + dy * dy), self.weights, 1.0, None, 0.0)  # type: ignore[call-overload]
+            cv2.gemm(kernel(dx * dx + dy * dy), self.weights, 1.0, None, 0.0)  # type: ignore[call-overload, unused-ignore]
             + p[:, :1] * self.affine[1]
             + p[:, 1:] * self.affine[2]
             + self.affine[0]
@@ -223,7 +223,7 @@ def strip_maps(
                 shift[top - y0 : bottom - y0, g.left : g.left + g.size[1]] = g.rows(top, bottom)
         cv2.add(shift[:n], pixel_grid(n, w), dst=shift[:n])
         # a scalar (per channel), which OpenCV's stubs do not admit beside an array
-        cv2.add(shift[:n], (0.0, float(y0), 0.0, 0.0), dst=shift[:n])  # type: ignore[call-overload]
+        cv2.add(shift[:n], (0.0, float(y0), 0.0, 0.0), dst=shift[:n])  # type: ignore[call-overload, unused-ignore]
         yield rows, shift[:n]
 
 
@@ -278,5 +278,5 @@ def warp(
     out = np.empty(out_shape + image.shape[2:], image.dtype)
     for rows, strip in strip_maps(src, dst, out_shape, refine):
         # map2 None: the one map holds x and y (OpenCV's stubs refuse None there)
-        cv2.remap(image, strip, None, cv2.INTER_LINEAR, dst=out[rows], borderMode=cv2.BORDER_REPLICATE)  # type: ignore[call-overload]
+        cv2.remap(image, strip, None, cv2.INTER_LINEAR, dst=out[rows], borderMode=cv2.BORDER_REPLICATE)  # type: ignore[call-overload, unused-ignore]
     return out
