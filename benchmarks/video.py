@@ -56,11 +56,11 @@ def detail_steps(cloner: Cloner, frames: list, points, lambda_k: float, repeat: 
         expression = cloner.expression(frame, p, lambda_k)
         rendered = cloner.render(cloner.shapes(expression, {"elastic"})["elastic"].points)
         inputs.append((expression, rendered, cloner.ratio(rendered, expression)))
-    final = cloner.mesh.n_landmarks
+    landmarks = cloner.mesh.n_landmarks  # the final landmarks lead the control points
 
     def details(mouth: bool) -> None:
         for expression, rendered, ratio in inputs:
-            cloner.details(method, expression, rendered.image, rendered.control[:final], ratio, mouth)
+            cloner.details(method, expression, rendered.image, rendered.control[:landmarks], ratio, mouth)
 
     steps = {
         "ERI (the three photos on its grid, its tests)": median_ms(lambda: [cloner.ratio(r, e) for e, r, _ in inputs], repeat),

@@ -160,7 +160,7 @@ class Spline:
         dx, dy = p[:, 0, None] - self.centres[:, 0], p[:, 1, None] - self.centres[:, 1]
         # OpenCV's product, not numpy's: OpenBLAS's threads wait long for a busy CPU (ten times a product's work)
         return (
-            # OpenCV's stubs refuse None for src3, which the C++ API takes as noArray() (no third term)
+            # OpenCV 5.0's stubs refuse None for src3, which the C++ API takes as noArray() (no third term); 5.1's admit it
             cv2.gemm(kernel(dx * dx + dy * dy), self.weights, 1.0, None, 0.0)  # type: ignore[call-overload, unused-ignore]
             + p[:, :1] * self.affine[1]
             + p[:, 1:] * self.affine[2]
@@ -222,7 +222,7 @@ def strip_maps(
             if top < bottom:
                 shift[top - y0 : bottom - y0, g.left : g.left + g.size[1]] = g.rows(top, bottom)
         cv2.add(shift[:n], pixel_grid(n, w), dst=shift[:n])
-        # a scalar (per channel), which OpenCV's stubs do not admit beside an array
+        # a scalar (per channel), which OpenCV 5.0's stubs do not admit beside an array (5.1's do)
         cv2.add(shift[:n], (0.0, float(y0), 0.0, 0.0), dst=shift[:n])  # type: ignore[call-overload, unused-ignore]
         yield rows, shift[:n]
 
@@ -277,6 +277,6 @@ def warp(
     out_shape = tuple(image.shape[:2] if out_shape is None else out_shape)
     out = np.empty(out_shape + image.shape[2:], image.dtype)
     for rows, strip in strip_maps(src, dst, out_shape, refine):
-        # map2 None: the one map holds x and y (OpenCV's stubs refuse None there)
+        # map2 None: the one map holds x and y (OpenCV 5.0's stubs refuse None there; 5.1's admit it)
         cv2.remap(image, strip, None, cv2.INTER_LINEAR, dst=out[rows], borderMode=cv2.BORDER_REPLICATE)  # type: ignore[call-overload, unused-ignore]
     return out
