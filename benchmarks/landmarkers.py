@@ -16,7 +16,7 @@ In one run, on the 72 neutral photos of the London Set (1350x1350):
 * inner lips: on the smiling photos whose mesh shows an open mouth, how much of the mesh's
   20-point inner-lip contour the 8 inner-lip points of the 68 cover (intersection over union
   of the two polygons), which bounds what the dense lips could add to the mouth's paste.
-* video: each landmarker's tracker (``exprclone.tracking.track``) through the 11 GRID clips
+* video: each landmarker's tracker (``exprclone.drive.tracking.track``) through the 11 GRID clips
   (360x288, 75 frames): milliseconds a frame, frames without a face, the jitter of the
   raw fits (the mean size of each point's second difference from frame to frame, over the
   outer-eye distance: speech moves the mouth smoothly, a fitter's noise does not), and how
@@ -42,16 +42,15 @@ import cv2
 import numpy as np
 
 from exprclone import data as samples
-from exprclone import tracking
+from exprclone.drive import tracking
 from exprclone.errors import ExprCloneError
 from exprclone.evaluation.accuracy import point_errors, region_errors, split, templates
-from exprclone.facemesh import MeshDetector
 from exprclone.io.images import load_image
 from exprclone.io.video import read_frames
-from exprclone.landmarkers import LANDMARKERS
-from exprclone.layout import DLIB68
-from exprclone.mesh_layout import INNER_LIPS, to_68
-from exprclone.models import landmarker as shared
+from exprclone.landmarks.backends import LANDMARKERS, shared
+from exprclone.landmarks.facemesh import MeshDetector
+from exprclone.landmarks.layout import DLIB68
+from exprclone.landmarks.mesh_layout import INNER_LIPS, to_68
 
 ANGLES = (15, 30, 45)
 #: a mouth counts as open when its dense inner-lip polygon covers this many squared mouth widths.

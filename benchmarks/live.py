@@ -27,9 +27,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from browser import chromium_pages  # noqa: E402
-from server import Server  # noqa: E402
-from test_live import write_y4m  # noqa: E402
+from browser import (
+    chromium_pages,  # noqa: E402
+    write_y4m,  # noqa: E402
+)
+from serving import Server  # noqa: E402
 
 from exprclone import data as samples  # noqa: E402
 

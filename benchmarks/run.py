@@ -36,13 +36,17 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from exprclone import METHODS, clone, clone_methods, eigenface, elastic, global_warp, local_warp, metric, muscle, tps, warp
-from exprclone import stages as stages_
-from exprclone.cloner import Cloner
+from exprclone import METHODS, clone, clone_methods
+from exprclone.details import muscle
+from exprclone.geometry import db_metric, eigenface, elastic, global_warp, local_warp
+from exprclone.geometry.eigenface import default_eigenfaces
+from exprclone.imaging import piecewise, tps
+from exprclone.imaging.warpers import tps_refine
 from exprclone.io.images import load_image
-from exprclone.layout import DLIB68
-from exprclone.models import default_detector, default_eigenfaces
-from exprclone.stages import tps_refine
+from exprclone.landmarks.backends import default_detector
+from exprclone.landmarks.layout import DLIB68
+from exprclone.pipeline import stages as stages_
+from exprclone.pipeline.cloner import Cloner
 
 
 def median_ms(fn, repeat: int) -> float:
@@ -82,34 +86,34 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
     sn_img, se_img, tn_img = images
     sn, se, tn = lms
     cloner = Cloner(sn_img, sn, tn_img, tn)
-    expression = cloner.expression(se_img, se, "auto")
-    shapes = cloner.shapes(expression, {"elastic"})
-    gl, lo, nb = shapes["global"].points, shapes["local"].points, cloner.neighbours
-    mesh, lambdas = cloner.mesh, np.array(metric.LAMBDAS)
-    rendered = cloner.render(shapes["elastic"].points)
+    prepared = cloner.prepare(se_img, se, ("e+md",), "auto")
+    expression, shapes, faces = prepared.expression, prepared.shapes, cloner.faces
+    gl, lo, nb = shapes["global"].points, shapes["local"].points, faces.neighbours
+    mesh, lambdas = faces.mesh, np.array(db_metric.LAMBDAS)
+    rendered = cloner.fi(shapes["elastic"].points, cloner.transfer)
     dst = mesh.control_points(gl)
     centres, radii = muscle.areas(gl, DLIB68)
     h = np.ones(len(centres))
     before = {name: shapes[name] for name in ("global", "local")}
-    cands = list(elastic.elastic_landmarks(gl, lo, nb, lambdas, metric.CANDIDATE_PASSES))
+    cands = list(elastic.elastic_landmarks(gl, lo, nb, lambdas, db_metric.CANDIDATE_PASSES))
     source_crop = eigenface.crop(se_img, se, DLIB68)  # made with the role check's, before the DB
-    cloner.ratio_faces  # the neutral faces prepared, once per pair
+    faces.ratio_faces  # the neutral faces prepared, once per pair
     return {
         "landmark detection (1 photo)": median_ms(lambda: default_detector().detect(tn_img), repeat),
-        "mesh": median_ms(lambda: warp.build_mesh(tn, tn_img.shape, DLIB68), repeat),
+        "mesh": median_ms(lambda: piecewise.build_mesh(tn, tn_img.shape, DLIB68), repeat),
         "global (landmarks)": median_ms(lambda: global_warp.global_landmarks(sn, se, tn, DLIB68), repeat),
         "global RBF (landmarks, Jacobians included)": median_ms(lambda: global_warp.rbf_landmarks(sn, se, tn, DLIB68), repeat),
         "local (landmarks)": median_ms(lambda: local_warp.local_landmarks(gl, se, DLIB68), repeat),
         "elastic (1 lambda)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, 1.0), repeat),
         "elastic (13 lambdas at once, every pass)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, lambdas), repeat),
         "lambda search (13 candidates + DB + the chosen solved)": median_ms(
-            lambda: stages_.elastic_stage(cloner, expression, before), repeat
+            lambda: stages_.elastic_stage(faces, cloner.options, expression, before), repeat
         ),
         "  of which DB on given candidates": median_ms(
-            lambda: metric.choose_lambda(cloner.db_target, mesh, cands, lambdas, source_crop, default_eigenfaces(), DLIB68), repeat
+            lambda: db_metric.choose_lambda(faces.db_target, mesh, cands, lambdas, source_crop, default_eigenfaces(), DLIB68), repeat
         ),
-        "warp (full image)": median_ms(lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles), repeat),
-        "ERI (both source photos warped on its grid)": median_ms(lambda: cloner.ratio(rendered, expression), repeat),
+        "warp (full image)": median_ms(lambda: piecewise.warp(tn_img, mesh.points, dst, mesh.triangles), repeat),
+        "ERI (both source photos warped on its grid)": median_ms(lambda: cloner.ratio(rendered, prepared.photo, cloner.transfer), repeat),
         "MD mask (Eqs. 10-11)": median_ms(
             lambda: muscle.importance_mask(tn_img.shape[:2], centres, radii, h, muscle.mask_step(radii)), repeat
         ),
@@ -137,14 +141,14 @@ def against_global(images, lms, repeat: int) -> dict[str, float]:
 def warp_peers(images, lms, repeat: int) -> dict[str, float]:
     tn_img = images[2]
     tn = lms[2]
-    mesh = warp.build_mesh(tn, tn_img.shape, DLIB68)
+    mesh = piecewise.build_mesh(tn, tn_img.shape, DLIB68)
     moved = tn + 4 * np.stack([np.sin(tn[:, 1] / 60), np.cos(tn[:, 0] / 50)], 1)
     dst = mesh.control_points(moved)
-    mx, my = warp.inverse_maps(mesh.points, dst, mesh.triangles, tn_img.shape[:2])
+    mx, my = piecewise.inverse_maps(mesh.points, dst, mesh.triangles, tn_img.shape[:2])
     # ours and the floor in turn, 3x as many runs: they are fast and their ratio is the target
     rows = interleaved_ms(
         {
-            "exprclone warp": lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles),
+            "exprclone warp": lambda: piecewise.warp(tn_img, mesh.points, dst, mesh.triangles),
             "bare cv2.remap, maps precomputed": lambda: cv2.remap(tn_img, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE),
         },
         3 * repeat,
@@ -161,7 +165,7 @@ def skimage_peer(image: np.ndarray, landmarks: np.ndarray):
     from skimage.transform import PiecewiseAffineTransform
     from skimage.transform import warp as sk_warp
 
-    mesh = warp.build_mesh(landmarks, image.shape, DLIB68)
+    mesh = piecewise.build_mesh(landmarks, image.shape, DLIB68)
     dst = mesh.control_points(landmarks + 4 * np.stack([np.sin(landmarks[:, 1] / 60), np.cos(landmarks[:, 0] / 50)], 1))
 
     def skimage_warp():
@@ -175,10 +179,10 @@ def tps_vs_mesh(images, lms, repeat: int) -> dict[str, float]:
     """The TPS warp and the mesh warp of the target photo, on the same control points: each timed alone (back to
     back), and the two in turn (so that both see the same load; each then pays for the other's use of the caches)."""
     tn_img, tn = images[2], lms[2]
-    mesh = warp.build_mesh(tn, tn_img.shape, DLIB68)
+    mesh = piecewise.build_mesh(tn, tn_img.shape, DLIB68)
     dst = mesh.control_points(tn + 4 * np.stack([np.sin(tn[:, 1] / 60), np.cos(tn[:, 0] / 50)], 1))
     fns = {
-        "mesh warp (piecewise-affine)": lambda: warp.warp(tn_img, mesh.points, dst, mesh.triangles),
+        "mesh warp (piecewise-affine)": lambda: piecewise.warp(tn_img, mesh.points, dst, mesh.triangles),
         "TPS warp (three grids, bicubic, one remap)": lambda: tps.warp(tn_img, mesh.points, dst, None, tps_refine(mesh)),
     }
     alone = {f"{name}, alone": median_ms(fn, 3 * repeat) for name, fn in fns.items()}

@@ -103,7 +103,7 @@ def with_peer(url: str, files: list[dict], requests: int, data: Path) -> tuple[l
     from run import skimage_peer
 
     from exprclone.io.images import load_image
-    from exprclone.models import default_detector
+    from exprclone.landmarks.backends import default_detector
 
     target = load_image(files[0]["target_neutral"][1])
     peer_warp = skimage_peer(target, default_detector().detect(target))

@@ -29,13 +29,14 @@ from pathlib import Path
 
 from run import interleaved_ms, median_ms
 
-from exprclone import cli, drive, tracking
-from exprclone.cloner import Cloner
-from exprclone.io.frames import resize_portrait
+from exprclone import cli, drive
+from exprclone.drive import tracking
+from exprclone.drive.framing import resize_portrait
 from exprclone.io.images import load_image
 from exprclone.io.video import probe, read_frames, write_video
+from exprclone.landmarks.backends import default_detector
 from exprclone.methods import lookup
-from exprclone.models import default_detector
+from exprclone.pipeline.cloner import Cloner
 
 SIZE = 512
 #: the speed target of the video job: e+md at this share of elastic's fps.
@@ -52,18 +53,21 @@ def detail_steps(cloner: Cloner, frames: list, points, lambda_k: float, repeat: 
     """e+md's detail steps (:meth:`Cloner.details`) each alone over the frames, on every frame's own FI and ERI."""
     method = lookup(("e+md",))[0]
     inputs = []
+    transfer = cloner.transfer
     for frame, p in zip(frames, points):
-        expression = cloner.expression(frame, p, lambda_k)
-        rendered = cloner.render(cloner.shapes(expression, {"elastic"})["elastic"].points)
-        inputs.append((expression, rendered, cloner.ratio(rendered, expression)))
-    landmarks = cloner.mesh.n_landmarks  # the final landmarks lead the control points
+        prepared = cloner.changed(lambda_k=lambda_k).prepare(frame, p, ("e+md",))
+        rendered = cloner.fi(prepared.shapes["elastic"].points, transfer)
+        inputs.append((prepared, rendered, cloner.ratio(rendered, prepared.photo, transfer)))
+    landmarks = cloner.faces.mesh.n_landmarks  # the final landmarks lead the control points
 
     def details(mouth: bool) -> None:
-        for expression, rendered, ratio in inputs:
-            cloner.details(method, expression, rendered.image, rendered.control[:landmarks], ratio, mouth)
+        for prepared, rendered, ratio in inputs:
+            cloner.details(method, prepared.expression, rendered.image, rendered.control[:landmarks], ratio, mouth, transfer)
 
     steps = {
-        "ERI (the three photos on its grid, its tests)": median_ms(lambda: [cloner.ratio(r, e) for e, r, _ in inputs], repeat),
+        "ERI (the three photos on its grid, its tests)": median_ms(
+            lambda: [cloner.ratio(r, p.photo, transfer) for p, r, _ in inputs], repeat
+        ),
         "MD mask and Eq. (9)": median_ms(lambda: details(False), repeat),
         "MD mask, Eq. (9) and the mouth interior": median_ms(lambda: details(True), repeat),
     }
@@ -107,7 +111,8 @@ def main() -> None:
     print(f"  tracker is {detect / follow:.1f}x faster than detecting every frame")
 
     print(f"\nrendering, landmarks known, lambda_k fixed ({lam:g}), in turn")
-    drivers = {method: drive.Driver(recording.driver.cloner, method, lam) for method in ("global", "elastic", "elastic+eri", "e+md")}
+    cloner = recording.driver.cloner
+    drivers = {method: drive.Driver(cloner.changed(method=method)) for method in ("global", "elastic", "elastic+eri", "e+md")}
     render = interleaved_ms({m: lambda d=d: sum(1 for _ in d.frames(frames, recording.points)) for m, d in drivers.items()}, args.repeat)
     per_frame(render, n)
     detail = (render["e+md"] - render["elastic"]) / n

@@ -38,7 +38,14 @@ extensions = [
     "sphinxcontrib.openapi",
 ]
 
-exclude_patterns = ["_build", "auto_examples/*.ipynb", "auto_examples/*.py", "auto_examples/*.zip", "results/data/**"]
+exclude_patterns = [
+    "_build",
+    "auto_examples/*.ipynb",
+    "auto_examples/*.py",
+    "auto_examples/*.zip",
+    "results/data/**",
+    "reference/options-table.rst",  # included by reference/options.rst
+]
 templates_path: list[str] = []
 html_static_path = ["_static"]
 html_theme = "pydata_sphinx_theme"
@@ -96,6 +103,62 @@ def write_openapi(app) -> None:
         target.write_text(text)
 
 
+def write_options(app) -> None:
+    """The options' reference table (``reference/options-table.rst``), made from their one declaration
+    (:mod:`exprclone.options`): each option's name on every surface, its default and its help."""
+    from exprclone.options import Driving, Framing, Options, key, names, spec
+
+    surfaces = {"cli": "command line", "form": "HTTP form", "json": "live", "manifest": "manifest"}
+    rows = []
+    for cls in (Options, Driving, Framing):
+        default = cls()
+        for name in names(cls):
+            option = spec(cls, name)
+            if not option.surfaces:
+                continue
+            flag = option.flag or f"--{key(cls, name).replace('_', '-')}"
+            value = getattr(default, name)
+            where = ", ".join(text for surface, text in surfaces.items() if surface in option.surfaces and surface != "cli")
+            cells = [
+                f"``{cls.__name__}.{name}``",
+                f"``{flag}``" if "cli" in option.surfaces else "",
+                f"``{key(cls, name)}`` ({where})" if where else "",
+                "" if value is None else f"``{value!r}``",
+                option.help + (f" (one of: {', '.join(option.choices)})" if option.choices else ""),
+            ]
+            rows.append("   * - " + "\n     - ".join(cells))
+    text = "\n".join(
+        [
+            ".. list-table::",
+            "   :header-rows: 1",
+            "   :widths: 18 16 20 10 36",
+            "",
+            "   * - Python",
+            "     - command line",
+            "     - field, where",
+            "     - default",
+            "     - what it does",
+            *rows,
+            "",
+        ]
+    )
+    target = DOCS / "reference" / "options-table.rst"
+    if not target.exists() or target.read_text() != text:
+        target.write_text(text)
+
+
+def draw_architecture(app) -> None:
+    """The architecture page's picture (:mod:`diagrams`), drawn into ``_static/architecture.png``."""
+    import sys
+
+    sys.path.insert(0, str(DOCS))
+    from diagrams import draw
+
+    draw(DOCS / "_static" / "architecture.png")
+
+
 def setup(app) -> None:
     os.environ.setdefault("MPLBACKEND", "agg")
     app.connect("builder-inited", write_openapi)
+    app.connect("builder-inited", write_options)
+    app.connect("builder-inited", draw_architecture)

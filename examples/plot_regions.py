@@ -12,7 +12,7 @@ import matplotlib.pyplot as plt
 import exprclone
 from exprclone import data
 from exprclone.evaluation.figures import face_box
-from exprclone.models import default_detector
+from exprclone.landmarks.backends import default_detector
 
 source_neutral, source_smile, target_neutral = data.photo("003"), data.photo("003", "smile"), data.photo("126")
 box = face_box(default_detector().detect(target_neutral), target_neutral.shape)

@@ -11,7 +11,7 @@ recording then renders the frames. Here, every tenth frame as a strip.
 import matplotlib.pyplot as plt
 
 from exprclone import data, drive
-from exprclone.io.frames import resize_portrait
+from exprclone.drive.framing import resize_portrait
 from exprclone.io.video import probe, read_frames
 
 clip = str(data.clip())

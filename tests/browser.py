@@ -52,3 +52,15 @@ def chromium_pages(count: int, *extra_flags: str):
             stack.callback(browser.close)
             pages.append(browser.pages[0] if browser.pages else browser.new_page())
         yield pages
+
+
+def write_y4m(clip, path):
+    """The clip as a Y4M file, which Chromium plays as a fake camera (in a loop)."""
+    import av
+
+    with av.open(str(clip)) as container, open(path, "wb") as out:
+        stream = container.streams.video[0]
+        w, h = stream.codec_context.width, stream.codec_context.height
+        out.write(f"YUV4MPEG2 W{w} H{h} F25:1 Ip A1:1 C420jpeg\n".encode())
+        for frame in container.decode(stream):
+            out.write(b"FRAME\n" + frame.to_ndarray(format="yuv420p").tobytes())

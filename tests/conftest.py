@@ -9,8 +9,12 @@ reason when they are absent; so do the browser tests without Debian's Chromium. 
 photos, shipped in ``tests/data/landmarks.json``.
 """
 
+import contextlib
+import io
 import json
 import os
+import warnings
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -18,13 +22,40 @@ import pytest
 
 from exprclone import data as samples
 from exprclone.io.images import load_image
-from exprclone.models import default_detector
+from exprclone.landmarks.backends import default_detector
 
 DATA = Path(os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
 LONDON = DATA / "london"
 GRID = DATA / "grid"
 REQUIRE_ALL = os.environ.get("EXPRCLONE_REQUIRE_ALL") == "1"
 SHIPPED = json.loads((Path(__file__).parent / "data" / "landmarks.json").read_text())
+
+
+@dataclass(frozen=True)
+class Completed:
+    """What a command did: its exit status and what it printed (as :class:`subprocess.CompletedProcess` has them)."""
+
+    returncode: int
+    stdout: str
+    stderr: str
+
+
+def command(*args: object, cwd: Path | str | None = None) -> Completed:
+    """``exprclone ARGS`` run in this process (:func:`exprclone.cli.main.main`), in ``cwd`` if given: its exit status and
+    what it printed. Each warning is shown as a fresh process would show it."""
+    from exprclone.cli.main import main
+
+    out, err, here = io.StringIO(), io.StringIO(), os.getcwd()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), warnings.catch_warnings():
+        warnings.simplefilter("always")
+        try:
+            os.chdir(cwd or here)
+            code = main([str(a) for a in args])
+        except SystemExit as e:  # argparse's usage errors, and a command's own exit status
+            code = e.code if isinstance(e.code, int) else 0 if e.code is None else 1
+        finally:
+            os.chdir(here)
+    return Completed(code, out.getvalue(), err.getvalue())
 
 
 def need(path: Path, reason: str) -> Path:

@@ -3,9 +3,9 @@
 import csv
 import json
 import re
-import subprocess
-import sys
 from pathlib import Path
+
+from conftest import Completed, command
 
 from exprclone import data as samples
 from exprclone.methods import METHODS as ALL_METHODS
@@ -19,9 +19,9 @@ SIZE = 256
 METHOD_NAME = re.compile("|".join(rf"(?<![\w+]){re.escape(m)}(?![\w+])" for m in sorted(ALL_METHODS, key=len, reverse=True)), re.I)
 
 
-def study(*args) -> subprocess.CompletedProcess:
-    """``exprclone study ARGS``."""
-    return subprocess.run([sys.executable, "-m", "exprclone", "study", *map(str, args)], capture_output=True, text=True)
+def study(*args) -> Completed:
+    """``exprclone study ARGS``, in this process."""
+    return command("study", *args)
 
 
 def manifest(folder: Path, sets=SETS, header: str = "set,source_neutral,source_expression,target_neutral") -> Path:
@@ -35,10 +35,10 @@ def manifest(folder: Path, sets=SETS, header: str = "set,source_neutral,source_e
     return path
 
 
-def make(folder: Path, *args, sets=SETS, methods=METHODS) -> subprocess.CompletedProcess:
+def make(folder: Path, *args, sets=SETS, methods=METHODS) -> Completed:
     """``exprclone study make`` of ``sets`` by ``methods`` into ``folder/study`` (small photos, one process)."""
     path = manifest(folder, sets)
-    return study("make", path, "-o", folder / "study", "--methods", ",".join(methods), "--size", SIZE, "--jobs", 1, *args)
+    return study("make", path, "-o", folder / "study", "--methods", ",".join(methods), "--max-size", SIZE, "--jobs", 1, *args)
 
 
 def key(folder: Path) -> dict[str, tuple[int, str]]:

@@ -31,7 +31,7 @@ import numpy as np
 from exprclone import METHODS, clone_methods
 from exprclone.evaluation.london import Dataset
 from exprclone.io.images import load_image
-from exprclone.models import default_detector
+from exprclone.landmarks.backends import default_detector
 
 #: the global warps and image warps, every combination run on every pair.
 GEOMETRY = list(itertools.product(("similarity", "rbf", "given"), ("mesh", "tps")))

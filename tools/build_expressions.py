@@ -11,7 +11,7 @@ smiling photos (:mod:`exprclone.expressions.composite`), their landmarks detecte
 - ``smile-gentle``: of every person: the average smile, lips parted a little.
 
 Whether a composite's averaged mouth interior is sharp enough to paste is measured: it is kept
-if it shows teeth by that measure and is no blurrier (:func:`exprclone.grain.blur_sigma` of the
+if it shows teeth by that measure and is no blurrier (:func:`exprclone.mouth.camera.blur_sigma` of the
 inner lips' box, in outer-eye-corner distances) than the blurriest of its people's real smiles
 that show teeth. Otherwise (on the London Set both composites' interiors are twice as blurred as
 the blurriest real smile) the interior is that of the real smile, among its people's that show
@@ -34,15 +34,15 @@ from pathlib import Path
 import numpy as np
 
 from exprclone import data as samples
-from exprclone import geometry
 from exprclone.evaluation.london import Dataset
 from exprclone.evaluation.scores import TEETH_SHOWN, teeth
 from exprclone.expressions import composite
 from exprclone.expressions.files import Expression, write
-from exprclone.grain import blur_sigma
 from exprclone.io.images import load_image
-from exprclone.layout import DLIB68
-from exprclone.models import default_detector
+from exprclone.landmarks import align
+from exprclone.landmarks.backends import default_detector
+from exprclone.landmarks.layout import DLIB68
+from exprclone.mouth.camera import blur_sigma
 
 ROOT = Path(__file__).resolve().parents[1]
 CREDIT = "Face Research Lab London Set (DeBruine and Jones 2017, CC BY 4.0)"
@@ -53,8 +53,8 @@ PROTOTYPES = {"smile": ("an open prototype smile", True), "smile-gentle": ("a ge
 def sharpness(face: composite.Face) -> tuple[float, float]:
     """The mouth's teeth (:func:`teeth`) and the blur of what a clone pastes (:func:`blur_sigma` of the inner lips'
     box), in outer-eye-corner distances."""
-    mouth = geometry.box(face.points[list(DLIB68.mouth_inner)], face.image.shape)
-    return teeth(face.image, face.points, DLIB68), blur_sigma(face.image[mouth]) / geometry.interocular(face.points, DLIB68)
+    mouth = align.box(face.points[list(DLIB68.mouth_inner)], face.image.shape)
+    return teeth(face.image, face.points, DLIB68), blur_sigma(face.image[mouth]) / align.interocular(face.points, DLIB68)
 
 
 def prototype(name: str, people: list[str], pairs: dict, interior: str) -> Expression:

@@ -36,7 +36,7 @@ portrait reports its mean over those frames, and the summary the mean and the wo
   teeth are the right brightness.
 
 ``--cast R G B`` also clones the stills with the source's two photos multiplied by that
-light (the synthetic cast of ``tests/test_mouth.py``, on every pair): it prints the
+light (the synthetic cast of ``tests/mouth/test_paste.py``, on every pair): it prints the
 relation distance with the cast smile as the driver, the distance that a transfer
 undoing the cast exactly would score (the uncast clone against the cast driver: the
 relation in CIELAB is not kept by a change of light, so a strong cast moves it even
@@ -48,11 +48,11 @@ kept by a change of light (the CIELAB differences of an orange-lit face are stre
 and real teeth in white light need not score low against an orange-lit driver.
 
 ``--lightness`` prints the 72 London people ordered by the CIELAB L* of their cheeks
-(the median over the skin cue's pixels, :func:`exprclone.illuminant.skin_pixels`, of
+(the median over the skin cue's pixels, :func:`exprclone.mouth.illuminant.skin_pixels`, of
 the neutral photo), palest first.
 
 ``--spread`` prints the between-people spread of the cues to the light
-(:mod:`exprclone.illuminant`) on the London neutral photos, one studio and one light:
+(:mod:`exprclone.mouth.illuminant`) on the London neutral photos, one studio and one light:
 ``SKIN_SPREAD`` and ``SCLERA_SPREAD``.
 
 ``--ref REV`` measures the code of a commit instead of the working tree (its ``src``
@@ -104,7 +104,7 @@ STRIP_SPACING = 4
 #: three dark ones.
 PORTRAITS = ("083", "112", "124", "137", "096", "062", "141", "097", "009", "099")
 #: a mouth shows teeth (for the own-teeth error) when they are at least this share of
-#: the pixels inside its inner lips (``exprclone.mouth.interior``): half of the
+#: the pixels inside its inner lips (``exprclone.mouth.measure.interior``): half of the
 #: :data:`BRIGHTEST` share, so that the brightest pixels are mostly teeth, not tongue.
 TEETH_SHARE = BRIGHTEST / 2
 
@@ -125,11 +125,11 @@ def discs(shape: tuple[int, ...], centres: np.ndarray, radius: float) -> np.ndar
 
 def regions(shape: tuple[int, ...], landmarks: np.ndarray) -> dict[str, np.ndarray]:
     """Masks of the cheeks (below the eyes) and of the nasolabial folds, lips left out."""
-    from exprclone import geometry
-    from exprclone.layout import DLIB68
+    from exprclone.landmarks import align
+    from exprclone.landmarks.layout import DLIB68
 
-    iod = geometry.interocular(landmarks, DLIB68)
-    right, down = geometry.face_axes(landmarks, DLIB68)
+    iod = align.interocular(landmarks, DLIB68)
+    right, down = align.face_axes(landmarks, DLIB68)
     eyes = np.array([landmarks[list(eye)].mean(0) for eye in DLIB68.eyes])
     folds = np.array(
         [(landmarks[31] + landmarks[48]) / 2 - FOLD_SIDE * iod * right, (landmarks[35] + landmarks[54]) / 2 + FOLD_SIDE * iod * right]
@@ -155,7 +155,7 @@ def interior_ab(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
 
 def inner_mask(shape: tuple[int, ...], landmarks: np.ndarray) -> np.ndarray:
     """The pixels inside the inner lips."""
-    from exprclone.layout import DLIB68
+    from exprclone.landmarks.layout import DLIB68
 
     inner = np.zeros(shape[:2], np.uint8)
     cv2.fillPoly(inner, [np.round(landmarks[list(DLIB68.mouth_inner)]).astype(np.int32)], 1)
@@ -184,23 +184,24 @@ def paste_relation(result) -> np.ndarray:
 
 
 def teeth_share(image: np.ndarray, landmarks: np.ndarray, gain: np.ndarray | None = None) -> float:
-    """The share of the pixels inside the inner lips that are teeth (``exprclone.mouth.interior``, after ``gain``)."""
-    from exprclone import lips, mouth
-    from exprclone.layout import DLIB68
+    """The share of the pixels inside the inner lips that are teeth (``exprclone.mouth.measure.interior``, after ``gain``)."""
+    from exprclone.landmarks import lips
+    from exprclone.landmarks.layout import DLIB68
+    from exprclone.mouth import measure
 
     landmarks = lips.uncross(landmarks, DLIB68)
-    return float(mouth.interior(image, landmarks, DLIB68, gain)[0].sum() / max(int(inner_mask(image.shape, landmarks).sum()), 1))
+    return float(measure.interior(image, landmarks, DLIB68, gain)[0].sum() / max(int(inner_mask(image.shape, landmarks).sum()), 1))
 
 
 def eye_white_balance(frames: list[np.ndarray], points: np.ndarray) -> np.ndarray:
     """The per-channel gain that makes a clip's eye whites grey (their midmean over every frame), its brightness kept.
 
     The light of a clip is the same in all its frames; under it a coloured light
-    saturates teeth as it does lips, and ``exprclone.mouth.interior`` no longer tells
+    saturates teeth as it does lips, and ``exprclone.mouth.measure.interior`` no longer tells
     them apart.
     """
-    from exprclone import illuminant
-    from exprclone.layout import DLIB68
+    from exprclone.landmarks.layout import DLIB68
+    from exprclone.mouth import illuminant
 
     white = np.maximum(illuminant.midmean(np.concatenate([illuminant.sclera_pixels(f, p, DLIB68) for f, p in zip(frames, points)])), 1.0)
     return np.exp(np.log(white).mean()) / white
@@ -208,9 +209,9 @@ def eye_white_balance(frames: list[np.ndarray], points: np.ndarray) -> np.ndarra
 
 def own_smile(data: Path, face: str, size: int | None) -> np.ndarray | None:
     """The relation (:func:`relation`) of a London person's own smile, scaled as the portraits are; None when it shows too few teeth."""
-    from exprclone import lips
-    from exprclone.layout import DLIB68
-    from exprclone.models import default_detector
+    from exprclone.landmarks import lips
+    from exprclone.landmarks.backends import default_detector
+    from exprclone.landmarks.layout import DLIB68
 
     smile = load_image(data / "london/smiling_front" / f"{face}_08.jpg")
     if size:
@@ -254,7 +255,7 @@ def driven(portrait: np.ndarray, portrait_points: np.ndarray | None, clip: Path)
 
 
 def resize_portrait(image: np.ndarray, size: int) -> np.ndarray:
-    from exprclone.io.frames import resize_portrait as resize
+    from exprclone.drive.framing import resize_portrait as resize
 
     return resize(image, None, size)[0]
 
@@ -321,7 +322,7 @@ def drive(clip: Path, portrait: np.ndarray, portrait_points: np.ndarray, own: np
 
 def drive_case(case: tuple[Path, str, Path, int]) -> dict:
     """:func:`drive` on ``(data, portrait id, clip, size)``: the portrait loaded and its landmarks found here (a task of ``--jobs``)."""
-    from exprclone.models import default_detector
+    from exprclone.landmarks.backends import default_detector
 
     data, face, clip, size = case
     portrait = resize_portrait(load_image(data / "london/neutral_front" / f"{face}_03.jpg"), size)
@@ -331,7 +332,7 @@ def drive_case(case: tuple[Path, str, Path, int]) -> dict:
 
 def mouth_crop(image: np.ndarray, landmarks: np.ndarray, size: int = CROP) -> np.ndarray:
     """A square crop around the mouth (1.6 mouth widths), ``size`` pixels."""
-    from exprclone.layout import DLIB68
+    from exprclone.landmarks.layout import DLIB68
 
     outer = landmarks[list(DLIB68.mouth_outer)]
     centre, half = outer.mean(0), 0.8 * np.ptp(outer[:, 0])
@@ -348,8 +349,8 @@ def strip_crops(data: Path, pairs: list[str], size: int, crop: int = CROP) -> np
     least :data:`STRIP_SPACING` frames apart, told by the tracked landmarks alone, so
     that every version of the code shows the same frames.
     """
-    from exprclone import mouth
-    from exprclone.layout import DLIB68
+    from exprclone.landmarks.layout import DLIB68
+    from exprclone.mouth import measure
 
     columns = []
     for pair in pairs:
@@ -357,7 +358,7 @@ def strip_crops(data: Path, pairs: list[str], size: int, crop: int = CROP) -> np
         portrait = resize_portrait(load_image(data / "london/neutral_front" / f"{face}_03.jpg"), size)
         points_of, frames = driven(portrait, None, data / "grid" / f"{clip}.mpg")
         chosen: list[int] = []
-        for i in np.argsort([-mouth.opening(p, DLIB68) for p in points_of], kind="stable"):
+        for i in np.argsort([-measure.opening(p, DLIB68) for p in points_of], kind="stable"):
             if len(chosen) < STRIP_ROWS and all(abs(int(i) - j) >= STRIP_SPACING for j in chosen):
                 chosen.append(int(i))
         columns.append(
@@ -381,9 +382,9 @@ def stills(data: Path, wanted: int, cast: np.ndarray | None = None) -> dict:
     (``changes``).
     """
     import exprclone
-    from exprclone.layout import DLIB68
-    from exprclone.models import default_detector
-    from exprclone.mouth import interior, mouth_width
+    from exprclone.landmarks.backends import default_detector
+    from exprclone.landmarks.layout import DLIB68
+    from exprclone.mouth.measure import interior, mouth_width
 
     london = data / "london"
     ids = sorted(p.name[:3] for p in (london / "neutral_front").glob("*_03.jpg"))
@@ -443,9 +444,9 @@ def stills(data: Path, wanted: int, cast: np.ndarray | None = None) -> dict:
 
 def spread(data: Path) -> None:
     """Print the standard deviation over the London neutral photos of each cue's log brightness and log colour."""
-    from exprclone import illuminant
-    from exprclone.layout import DLIB68
-    from exprclone.models import default_detector
+    from exprclone.landmarks.backends import default_detector
+    from exprclone.landmarks.layout import DLIB68
+    from exprclone.mouth import illuminant
 
     detector, colours = default_detector(), []
     for path in sorted((data / "london" / "neutral_front").glob("*_03.jpg")):
@@ -458,9 +459,9 @@ def spread(data: Path) -> None:
 
 def skin_lightness(data: Path) -> list[tuple[str, float]]:
     """The London people and the CIELAB L* of their cheeks on their neutral photos (median over the skin cue's pixels), palest first."""
-    from exprclone import illuminant
-    from exprclone.layout import DLIB68
-    from exprclone.models import default_detector
+    from exprclone.landmarks.backends import default_detector
+    from exprclone.landmarks.layout import DLIB68
+    from exprclone.mouth import illuminant
 
     detector, rows = default_detector(), []
     for path in sorted((data / "london" / "neutral_front").glob("*_03.jpg")):
@@ -480,10 +481,11 @@ def own_teeth(data: Path, portraits: list[str], clips: list[Path], size: int) ->
     frames whose mouth is fully open (``mouth.OPENING``), for the people whose smile
     shows teeth (:func:`own_smile`): a right answer, in white light, on that measure.
     """
-    from exprclone import mouth, tracking
+    from exprclone.drive import tracking
     from exprclone.io.video import probe, read_frames
-    from exprclone.layout import DLIB68
-    from exprclone.models import default_detector
+    from exprclone.landmarks.backends import default_detector
+    from exprclone.landmarks.layout import DLIB68
+    from exprclone.mouth import measure
 
     floors, spread = own_floor(data, size)
     print(f"{len(floors)} London smiles show teeth; the between-person spread of their relation {spread:.1f}")
@@ -492,7 +494,7 @@ def own_teeth(data: Path, portraits: list[str], clips: list[Path], size: int) ->
     detector, rows = default_detector(), []
     for clip in clips:
         points = tracking.smooth(tracking.track(read_frames(clip), detector, clip.name).points, float(probe(clip).fps))
-        driver = [relation(f, p) for f, p in zip(read_frames(clip), points) if mouth.opening(p, DLIB68) >= mouth.OPENING[1]]
+        driver = [relation(f, p) for f, p in zip(read_frames(clip), points) if measure.opening(p, DLIB68) >= measure.OPENING[1]]
         rows.append([np.mean([np.linalg.norm(d - r) for d in driver]) for r in own.values()])
         print(f"{clip.stem} | {' | '.join(f'{v:.1f}' for v in rows[-1])}", flush=True)
     scores = np.array(rows)

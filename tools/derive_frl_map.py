@@ -31,7 +31,7 @@ import numpy as np
 
 from exprclone.io.images import load_image
 from exprclone.io.landmarks import read_tem
-from exprclone.landmarks import Detector
+from exprclone.landmarks.dlib import Detector
 
 PAIR_GAIN = 0.01  # minimum drop in median normalised error that justifies two points over one
 

@@ -1,6 +1,6 @@
 """Derive the table that gives dlib's 68 points from MediaPipe's 468-point mesh (``MESH_TO_68``).
 
-The mesh landmarker (``exprclone.facemesh``) fits the 468 mesh points on each neutral photo of
+The mesh landmarker (``exprclone.landmarks.facemesh``) fits the 468 mesh points on each neutral photo of
 the London Set; the manual 189-point template of that photo, mapped to the 68 points
 (``exprclone.io.frl_template``), is the truth. The fit uses only the training people of
 ``exprclone.evaluation.accuracy.split`` (two of every three by sorted id); the others are held
@@ -34,9 +34,9 @@ from pathlib import Path
 import numpy as np
 
 from exprclone.evaluation.accuracy import point_errors, region_errors, split, templates
-from exprclone.facemesh import MeshDetector
 from exprclone.io.images import load_image
-from exprclone.mesh_layout import BROWS, EYE_LIDS, FACE_OVAL, INNER_LIPS, NOSE, OUTER_LIPS
+from exprclone.landmarks.facemesh import MeshDetector
+from exprclone.landmarks.mesh_layout import BROWS, EYE_LIDS, FACE_OVAL, INNER_LIPS, NOSE, OUTER_LIPS
 
 #: candidates kept per point, nearest first, before combinations are tried.
 NEAREST = 8
@@ -70,7 +70,7 @@ CANDIDATES = (
 
 
 #: points with the same anatomical definition in both layouts, pinned instead of fitted: the eye
-#: corners (the face's axis and scale, :attr:`exprclone.layout.Layout.eye_corners`), the outer and
+#: corners (the face's axis and scale, :attr:`exprclone.landmarks.layout.Layout.eye_corners`), the outer and
 #: inner mouth corners, the chin.
 ANCHORS = {8: 152, 36: 33, 39: 133, 42: 362, 45: 263, 48: 61, 54: 291, 60: 78, 64: 308}
 

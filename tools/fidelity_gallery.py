@@ -79,7 +79,7 @@ def load(folder: Path, pair: tuple[str, str]) -> types.SimpleNamespace:
 def on_swaps(result, data: Path, pair: tuple[str, str]) -> tuple[float, int]:
     """The largest departure of the ERI from 1 where the source's photos swap material, and how many pixels swap."""
     from exprclone.evaluation.scores import material_swaps
-    from exprclone.layout import DLIB68
+    from exprclone.landmarks.layout import DLIB68
 
     swaps = material_swaps(result, photo(data, pair[0]), photo(data, pair[0], True), DLIB68)
     return (float(np.abs(result.eri[swaps] - 1).max()) if swaps.any() else 0.0), int(swaps.sum())
@@ -100,7 +100,7 @@ def eri_view(result) -> np.ndarray:
 
 def row(data: Path, pair: tuple[str, str], before, after, note: str) -> np.ndarray:
     """One pair: a caption line, then source smile, target, before, after, real smile, ERI before and after."""
-    from exprclone.models import default_detector
+    from exprclone.landmarks.backends import default_detector
 
     a, b = pair
     smile, target, real = photo(data, a, True), photo(data, b), photo(data, b, True)
@@ -115,7 +115,7 @@ def row(data: Path, pair: tuple[str, str], before, after, note: str) -> np.ndarr
 def identity(image: np.ndarray, target: np.ndarray) -> float:
     """dlib's face-descriptor distance of ``image`` to the ``target`` photo, both detected afresh (as ``exprclone evaluate`` scores it)."""
     from exprclone.evaluation.scores import FaceDescriptor, identity_distance
-    from exprclone.models import default_detector
+    from exprclone.landmarks.backends import default_detector
 
     describe = FaceDescriptor()
     return identity_distance(*(describe(im, default_detector().detect(im)) for im in (image, target)))

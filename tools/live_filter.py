@@ -3,7 +3,7 @@
     python tools/live_filter.py [--data ../shared/data] [--settings 1.5,4 1,2 ...]
 
 For every clip the tracker's raw landmarks are filtered as if they arrived live (causal,
-at the clip's 25 fps). Jitter: :func:`exprclone.tracking.jitter` of the mouth points,
+at the clip's 25 fps). Jitter: :func:`exprclone.drive.tracking.jitter` of the mouth points,
 filtered over raw. Lag: the shift (ms) that best aligns the filtered mouth opening with
 the raw one (cross-correlation, in steps of a tenth of a frame, the signals interpolated).
 The offline zero-phase filter of ``exprclone video`` is the peer (no lag by construction).
@@ -15,10 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
-from exprclone import mouth, tracking
+from exprclone.drive import tracking
 from exprclone.io.video import probe, read_frames
-from exprclone.layout import DLIB68
-from exprclone.models import default_detector
+from exprclone.landmarks.backends import default_detector
+from exprclone.landmarks.layout import DLIB68
+from exprclone.mouth import measure
 
 MOUTH = DLIB68.mouth_outer + DLIB68.mouth_inner
 
@@ -55,7 +56,7 @@ def main() -> None:
         for raw, fps in tracks.values():
             filtered = smooth(raw, fps)
             jitters.append(tracking.jitter(filtered, MOUTH) / tracking.jitter(raw, MOUTH))
-            opening = [np.array([mouth.opening(p, DLIB68) for p in points]) for points in (raw, filtered)]
+            opening = [np.array([measure.opening(p, DLIB68) for p in points]) for points in (raw, filtered)]
             lags.append(lag_ms(*opening, fps))
             correlations.append(np.corrcoef(*opening)[0, 1])
         jitter = f"{np.median(jitters):.2f} ({min(jitters):.2f}-{max(jitters):.2f})"

@@ -20,15 +20,17 @@ from PIL import Image
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from browser import chromium  # noqa: E402
-from server import Server  # noqa: E402
-from test_live import write_y4m  # noqa: E402
+from browser import (
+    chromium,  # noqa: E402
+    write_y4m,  # noqa: E402
+)
+from serving import Server  # noqa: E402
 
 from exprclone import data as samples  # noqa: E402
-from exprclone.layout import DLIB68  # noqa: E402
-from exprclone.models import default_detector  # noqa: E402
-from exprclone.mouth import opening  # noqa: E402
-from exprclone.server.live import decode_jpeg  # noqa: E402
+from exprclone.landmarks.backends import default_detector  # noqa: E402
+from exprclone.landmarks.layout import DLIB68  # noqa: E402
+from exprclone.mouth.measure import opening  # noqa: E402
+from exprclone.server.session import decode_jpeg  # noqa: E402
 
 SIZE = 256
 

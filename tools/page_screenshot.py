@@ -15,7 +15,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from browser import chromium  # noqa: E402
 from PIL import Image  # noqa: E402
-from server import Server  # noqa: E402
+from serving import Server  # noqa: E402
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("-o", "--output", default=str(Path(__file__).resolve().parents[1] / "docs" / "page.jpg"))

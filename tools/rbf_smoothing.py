@@ -1,4 +1,4 @@
-"""How much the RBF correspondence between two neutral faces is smoothed (``exprclone.global_warp.RBF_SMOOTHING``).
+"""How much the RBF correspondence between two neutral faces is smoothed (``exprclone.geometry.global_warp.RBF_SMOOTHING``).
 
     python tools/rbf_smoothing.py [--data ../shared/data] [--pairs 300] [--smoothing 1e-4 0.001 0.01 0.05 0.1 0.15 0.2 0.3 1 1000]
 
@@ -20,15 +20,16 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import RBFInterpolator
 
-from exprclone import geometry, global_warp, lips
 from exprclone.evaluation.london import Dataset
+from exprclone.geometry import global_warp
 from exprclone.io.images import load_image
-from exprclone.layout import DLIB68
-from exprclone.models import default_detector
+from exprclone.landmarks import align, lips
+from exprclone.landmarks.backends import default_detector
+from exprclone.landmarks.layout import DLIB68
 
 
 def normalised(points: np.ndarray) -> np.ndarray:
-    return (points - points.mean(0)) / geometry.interocular(points, DLIB68)
+    return (points - points.mean(0)) / align.interocular(points, DLIB68)
 
 
 def left_out_error(s: np.ndarray, t: np.ndarray, smoothing: float) -> np.ndarray:
@@ -55,7 +56,7 @@ def main() -> None:
         global_warp.RBF_SMOOTHING = smoothing
         values = np.concatenate([np.linalg.svd(global_warp.rbf_jacobians(faces[a], faces[b], DLIB68), compute_uv=False) for a, b in pairs])
         # in each face's own inter-ocular distances: the Jacobian of two faces of one shape is 1
-        units = np.repeat([geometry.interocular(faces[b], DLIB68) / geometry.interocular(faces[a], DLIB68) for a, b in pairs], 68)
+        units = np.repeat([align.interocular(faces[b], DLIB68) / align.interocular(faces[a], DLIB68) for a, b in pairs], 68)
         values = values / units[:, None]
         error = np.concatenate([left_out_error(normalised(faces[a]), normalised(faces[b]), smoothing) for a, b in pairs[:60]])
         spread = f"singular values {values[:, 1].min():.2f} to {values[:, 0].max():.2f}"

@@ -1,4 +1,4 @@
-"""How well :mod:`exprclone.role_check` tells photos given in the wrong roles, on the London Set (72 people).
+"""How well :mod:`exprclone.pipeline.role_check` tells photos given in the wrong roles, on the London Set (72 people).
 
 For every person: the right order (their neutral photo, then their smile), the swapped order (the smile as
 the neutral), and mismatched people (their neutral with each of the next ``--others`` people's smiles). It
@@ -9,7 +9,7 @@ without the person judged (leave-one-out), as printed.
 
     PYTHONPATH=src python tools/role_check.py [--data ../shared/data/london] [--write-template]
 
-``--write-template`` first writes ``src/exprclone/data/neutral_face.json`` (:data:`exprclone.role_check.NEUTRAL_FACE`),
+``--write-template`` first writes ``src/exprclone/data/neutral_face.json`` (:data:`exprclone.pipeline.role_check.NEUTRAL_FACE`),
 the mean of the 72 neutral faces' detected landmarks.
 """
 
@@ -22,10 +22,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
-from exprclone import geometry, role_check  # noqa: E402
 from exprclone.io.images import load_image  # noqa: E402
-from exprclone.layout import DLIB68  # noqa: E402
-from exprclone.pipeline import default_detector  # noqa: E402
+from exprclone.landmarks import align  # noqa: E402
+from exprclone.landmarks.backends import default_detector  # noqa: E402
+from exprclone.landmarks.layout import DLIB68  # noqa: E402
+from exprclone.pipeline import role_check  # noqa: E402
 
 TEMPLATE = Path(__file__).resolve().parents[1] / "src" / "exprclone" / "data" / "neutral_face.json"
 
@@ -45,12 +46,12 @@ def load(data: Path) -> tuple[list[str], dict[str, role_check.Photo]]:
 
 def mean_face(shapes: list[np.ndarray]) -> np.ndarray:
     """The mean of faces, each rigidly aligned on the mean (twice), outer eye corners at (0, 0) and (1, 0)."""
-    units = [s / geometry.interocular(s, DLIB68) for s in shapes]
+    units = [s / align.interocular(s, DLIB68) for s in shapes]
     mean = units[0]
     for _ in range(3):
-        mean = np.mean([geometry.apply(geometry.fit_rigid(u, mean, DLIB68), u) for u in units], axis=0)
+        mean = np.mean([align.apply(align.fit_rigid(u, mean, DLIB68), u) for u in units], axis=0)
         i, j = DLIB68.eye_corners
-        mean = geometry.apply(geometry.fit_similarity(mean[[i, j]], np.array([[0.0, 0.0], [1.0, 0.0]])), mean)
+        mean = align.apply(align.fit_similarity(mean[[i, j]], np.array([[0.0, 0.0], [1.0, 0.0]])), mean)
     return mean
 
 

@@ -16,7 +16,7 @@ from exprclone import METHODS, clone_methods
 from exprclone.evaluation.figures import cell, face_box
 from exprclone.evaluation.london import Dataset
 from exprclone.io.images import load_image, save_image
-from exprclone.models import default_detector
+from exprclone.landmarks.backends import default_detector
 
 
 def main() -> None:

@@ -1,12 +1,12 @@
-"""Measure the constants of ``exprclone.teeth`` on the London Set: the studio's light, and teeth in it.
+"""Measure the constants of ``exprclone.mouth.teeth`` on the London Set: the studio's light, and teeth in it.
 
     python tools/teeth_prior.py [--data ../shared/data] [--widths 30 45 70 110 170]
 
 Prints, from the 72 neutral photos, the mean log RGB of the two cues to the light
-(``WHITE_SKIN``, ``WHITE_SCLERA``: :class:`exprclone.illuminant.Light`), and, from the
-smiles that show teeth (``exprclone.mouth.interior``: at least :data:`TEETH_SHOWN`
+(``WHITE_SKIN``, ``WHITE_SCLERA``: :class:`exprclone.mouth.illuminant.Light`), and, from the
+smiles that show teeth (``exprclone.mouth.measure.interior``: at least :data:`TEETH_SHOWN`
 squared mouth widths), the mean and the between-people spread (per degree of freedom)
-of the log colour of their teeth and of their mouth's cavity (``exprclone.teeth.Part.read``): at the photo's own
+of the log colour of their teeth and of their mouth's cavity (``exprclone.mouth.teeth.Part.read``): at the photo's own
 size, and with the smile shrunk until its mouth is ``--widths`` pixels wide and saved
 as a JPEG of quality :data:`QUALITY` (with its colour at half resolution, as video
 codecs keep it): small, compressed mouths blend the teeth's colour with the lips' and
@@ -25,10 +25,11 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from exprclone import illuminant, lips, mouth, teeth
 from exprclone.io.images import load_image
-from exprclone.layout import DLIB68
-from exprclone.models import default_detector
+from exprclone.landmarks import lips
+from exprclone.landmarks.backends import default_detector
+from exprclone.landmarks.layout import DLIB68
+from exprclone.mouth import illuminant, measure, teeth
 
 ROOT = Path(__file__).resolve().parents[1]
 #: a smile shows teeth from this area, in squared mouth widths (as ``exprclone.evaluation``'s).
@@ -48,7 +49,7 @@ def shrunk(image: np.ndarray, points: np.ndarray, scale: float) -> tuple[np.ndar
 
 def part_colours(image: np.ndarray, points: np.ndarray) -> list[np.ndarray | None]:
     """The log colour of the teeth and of the cavity a photo shows (``teeth.Part.read``), None where too few."""
-    parts = [teeth.Part.read(image[mask]) for mask in mouth.interior(image, points, DLIB68)]
+    parts = [teeth.Part.read(image[mask]) for mask in measure.interior(image, points, DLIB68)]
     return [None if part is None else part.log_colour for part in parts]
 
 
@@ -75,8 +76,8 @@ def main() -> int:
     for path in sorted((london / "smiling_front").glob("*_08.jpg")):
         image = load_image(path)
         points = lips.uncross(detector.detect(image), DLIB68)
-        width = mouth.mouth_width(points, DLIB68)
-        if mouth.interior(image, points, DLIB68)[0].sum() < TEETH_SHOWN * width**2:
+        width = measure.mouth_width(points, DLIB68)
+        if measure.interior(image, points, DLIB68)[0].sum() < TEETH_SHOWN * width**2:
             continue
         widths.append(width)
         for w in rows:

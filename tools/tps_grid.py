@@ -1,4 +1,4 @@
-"""How far apart the thin-plate spline's grid nodes may be (``exprclone.tps.GRID_STEP``), and what the spline costs.
+"""How far apart the thin-plate spline's grid nodes may be (``exprclone.imaging.tps.GRID_STEP``), and what the spline costs.
 
     python tools/tps_grid.py [--data ../shared/data] [--pairs 20] [--steps 8,8 8,4 8,2 4,4]
 
@@ -21,12 +21,13 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import RBFInterpolator
 
-from exprclone import clone, tps, warp
+from exprclone import clone
 from exprclone.evaluation.london import Dataset
+from exprclone.imaging import piecewise, tps
+from exprclone.imaging.warpers import tps_refine
 from exprclone.io.images import load_image
-from exprclone.models import default_detector
-from exprclone.pipeline import Cloner
-from exprclone.stages import tps_refine
+from exprclone.landmarks.backends import default_detector
+from exprclone.pipeline.clone import Cloner
 
 
 def control_points(data: Dataset, a: str, b: str):
@@ -35,7 +36,7 @@ def control_points(data: Dataset, a: str, b: str):
     points = [default_detector().detect(p) for p in photos]
     result = clone(*photos, method="e+md", landmarks=tuple(points))
     cloner = Cloner(photos[0], points[0], photos[2], points[2])
-    return photos[2], cloner.mesh, cloner.render(result.landmarks["elastic"]).control
+    return photos[2], cloner.faces.mesh, cloner.fi(result.landmarks["elastic"], cloner.transfer).control
 
 
 def errors(mesh, control, shape, rng) -> np.ndarray:
@@ -55,7 +56,7 @@ def timings(image, mesh, control, repeat: int = 5) -> tuple[float, float]:
     times = {"mesh": [], "tps": []}
     for _ in range(repeat + 1):
         for name, fn in (
-            ("mesh", lambda: warp.warp(image, mesh.points, control, mesh.triangles)),
+            ("mesh", lambda: piecewise.warp(image, mesh.points, control, mesh.triangles)),
             ("tps", lambda: tps.warp(image, mesh.points, control, None, tps_refine(mesh))),
         ):
             t = time.perf_counter()

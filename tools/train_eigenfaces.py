@@ -11,10 +11,10 @@ import argparse
 import os
 from pathlib import Path
 
-from exprclone.eigenface import train
+from exprclone.geometry.eigenface import train
 from exprclone.io.images import load_image
-from exprclone.landmarks import Detector
-from exprclone.layout import DLIB68
+from exprclone.landmarks.dlib import Detector
+from exprclone.landmarks.layout import DLIB68
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))

@@ -4,8 +4,8 @@
 
 For each clip, drives the portrait with e+md twice (landmarks smoothed, as shipped, and
 raw) and prints: the jitter of the output's mouth landmarks (the geometry each frame is
-rendered with; :func:`exprclone.tracking.jitter`, in eye distances) with and without
-smoothing; the correlation over time of the mouth opening (:func:`exprclone.mouth.opening`)
+rendered with; :func:`exprclone.drive.tracking.jitter`, in eye distances) with and without
+smoothing; the correlation over time of the mouth opening (:func:`exprclone.mouth.measure.opening`)
 between the driver, from the detector run afresh on every frame, and the output; the
 frames without a face; the lambda_k chosen for the video; the neutral frame.
 """
@@ -18,18 +18,20 @@ from pathlib import Path
 
 import numpy as np
 
-from exprclone import drive, mouth, tracking
-from exprclone.io.frames import resize_portrait
+from exprclone import drive
+from exprclone.drive import tracking
+from exprclone.drive.framing import resize_portrait
 from exprclone.io.images import load_image
 from exprclone.io.video import probe, read_frames
-from exprclone.layout import DLIB68
-from exprclone.models import default_detector
+from exprclone.landmarks.backends import default_detector
+from exprclone.landmarks.layout import DLIB68
+from exprclone.mouth import measure
 
 MOUTH = DLIB68.mouth_outer + DLIB68.mouth_inner
 
 
 def openings(points: np.ndarray) -> np.ndarray:
-    return np.array([mouth.opening(p, DLIB68) for p in points])
+    return np.array([measure.opening(p, DLIB68) for p in points])
 
 
 def main() -> None:

@@ -6,19 +6,31 @@ Muscle Models" (the E+MD algorithm) and of the other methods it compares (Fig. 1
 >>> import exprclone
 >>> exprclone.METHODS
 ('global', 'local', 'elastic', 'global+eri', 'local+eri', 'elastic+eri', 'e+md')
+>>> exprclone.Options(method="global", strength=0.5)
+Options(method='global', strength=0.5)
 """
+
+from typing import TYPE_CHECKING
 
 from .errors import ExprCloneError, ExprCloneWarning
 from .methods import METHODS
+from .options import Options
 
-__all__ = ["METHODS", "CloneResult", "ExprCloneError", "ExprCloneWarning", "clone", "clone_methods"]
+if TYPE_CHECKING:  # what type checkers see; at run time the pipeline is imported on first use (__getattr__)
+    from .pipeline.clone import clone, clone_methods, prepare
+    from .pipeline.cloner import CloneResult, Prepared
+
+__all__ = ["METHODS", "CloneResult", "ExprCloneError", "ExprCloneWarning", "Options", "Prepared", "clone", "clone_methods", "prepare"]
 __version__ = "0.1.0"
+
+#: the names of the pipeline's face, imported on first use (numpy, OpenCV and SciPy with them).
+LAZY = ("clone", "clone_methods", "prepare", "CloneResult", "Prepared")
 
 
 def __getattr__(name: str) -> object:
     """The pipeline (numpy, OpenCV, SciPy) is imported on first use, not with the package."""
-    if name in ("clone", "clone_methods", "CloneResult"):
-        from . import pipeline
+    if name in LAZY:
+        from .pipeline import clone
 
-        return getattr(pipeline, name)
+        return getattr(clone, name)
     raise AttributeError(f"module 'exprclone' has no attribute {name!r}")

@@ -5,7 +5,7 @@
 2. Each distinct photo (by content: the SHA-256 of its bytes) is detected once, however
    many rows use it; with a cache folder its landmarks persist between runs.
 3. Rows that share a source's neutral photo and a target go together, so the work that
-   depends on the two neutral faces (:class:`exprclone.cloner.Cloner`) is done once.
+   depends on the two neutral faces (:class:`exprclone.pipeline.cloner.Cloner`) is done once.
 
 The tasks run on a :class:`Local` pool of processes or on a Dask cluster (:class:`Dask`);
 either way one bad row never stops the job, and the report has one row per manifest row.
@@ -32,7 +32,8 @@ import numpy as np
 
 from ..errors import ExprCloneError
 from ..io.progress import Display, Progress, Quiet
-from ..landmarkers import DEFAULT
+from ..landmarks.backends import name_of
+from ..options import Options
 from . import work
 from .manifest import COLUMNS, Row
 
@@ -120,7 +121,7 @@ def fingerprint(path: str) -> str | None:
 
 
 def find_landmarks(
-    photos: Iterable[str], run: Map, cache: Path | None, progress: Progress, landmarker: str = DEFAULT
+    photos: Iterable[str], run: Map, cache: Path | None, progress: Progress, landmarker: str
 ) -> tuple[dict[str, np.ndarray], dict[str, str]]:
     """Every photo's landmarks placed by ``landmarker``, each distinct content detected once (or read from ``cache``,
     where each landmarker's are kept apart).
@@ -161,7 +162,7 @@ def _cached(cache: Path | None, digest: str, landmarker: str) -> np.ndarray | No
     return None if path is None or not path.is_file() else np.array(json.loads(path.read_text())["landmarks"], float)
 
 
-def make_tasks(rows: list[Row], landmarks: dict[str, np.ndarray], options: work.JobOptions) -> list[work.Task]:
+def make_tasks(rows: list[Row], landmarks: dict[str, np.ndarray], options: Options) -> list[work.Task]:
     """Rows grouped by source neutral photo and target, in tasks of at most :data:`CLONE_CHUNK` rows."""
     groups: dict[tuple[str, str], list[Row]] = {}
     for row in rows:
@@ -176,7 +177,7 @@ def make_tasks(rows: list[Row], landmarks: dict[str, np.ndarray], options: work.
 
 def run(
     rows: list[Row],
-    options: work.JobOptions,
+    options: Options,
     backend: Local | Dask,
     outcomes: dict[int, work.Outcome],
     *,
@@ -200,7 +201,7 @@ def run(
         cache.mkdir(parents=True, exist_ok=True)
     with backend.running() as map_:
         photos = (p for row in to_do for p in row.photos if p not in known)
-        landmarks, problems = find_landmarks(photos, map_, cache, progress, options.landmarker)
+        landmarks, problems = find_landmarks(photos, map_, cache, progress, name_of(options.landmarker))
         landmarks.update(known)
         ready = []
         for row in to_do:

@@ -1,7 +1,8 @@
 """What a batch job is asked to do: rows of (source neutral, source expression, target neutral, output), checked at the door.
 
 A manifest is a CSV file with the header ``source_neutral,source_expression,target_neutral,output``
-and optional ``method`` and ``lambda`` columns; its paths are relative to its own folder
+and optional columns of the clone's options (:data:`OPTIONAL`: ``method``, ``lambda``, ``strength``, ...),
+each a row's own value of that option where it is not empty; its paths are relative to its own folder
 (outputs to ``--out`` when given). The other form puts one expression on every portrait
 of a folder or glob, writing ``OUT/<target name>.png``. A manifest that cannot be used
 (unreadable, columns missing, two rows writing the same output, an output that is one of
@@ -19,25 +20,26 @@ from pathlib import Path
 
 from ..errors import ExprCloneError
 from ..io.images import PHOTO_SUFFIXES
+from ..options import Options, key, offered
 from ..roles import ROLES
 
 #: the columns every manifest has.
 COLUMNS = (*ROLES, "output")
-#: the columns a manifest may have, overriding the job's options row by row.
-OPTIONAL = ("method", "lambda")
+#: the columns a manifest may have, overriding the job's options row by row: those of the options offered to manifests.
+OPTIONAL = tuple(key(Options, name) for name in offered(Options, "manifest"))
 
 
 @dataclass(frozen=True)
 class Row:
-    """One clone of a batch job: its number in the manifest (from 1), its files, and its own method and lambda_k if given."""
+    """One clone of a batch job: its number in the manifest (from 1), its files, and the texts of its own options
+    (:data:`OPTIONAL` columns that are not empty, by column), read with the job's (:meth:`exprclone.options.Options.from_text`)."""
 
     number: int
     source_neutral: str
     source_expression: str
     target_neutral: str
     output: str
-    method: str | None = None
-    lambda_k: str | None = None
+    cells: tuple[tuple[str, str], ...] = ()
 
     @property
     def photos(self) -> tuple[str, str, str]:
@@ -52,10 +54,10 @@ def read_manifest(path: str, out: str | None = None) -> list[Row]:
 
 
 def _row(number: int, record: dict[str, str], path: str, outputs: Path) -> Row:
-    """One manifest row: its photos in the folder of the manifest at ``path``, its output in ``outputs``, its own method and
-    lambda if given."""
-    method, lambda_k = (record.get(column) or None for column in OPTIONAL)
-    return Row(number, *photos_of(record, path), str(outputs / record["output"]), method, lambda_k)
+    """One manifest row: its photos in the folder of the manifest at ``path``, its output in ``outputs``, its own options
+    if given."""
+    cells = tuple((column, record[column]) for column in OPTIONAL if record.get(column))
+    return Row(number, *photos_of(record, path), str(outputs / record["output"]), cells)
 
 
 def read_records(path: str, columns: tuple[str, ...]) -> list[dict[str, str]]:

@@ -2,8 +2,8 @@
 
 Tasks are plain functions over small, picklable arguments (paths, landmarks, options),
 and read and write the files at the paths given. A worker loads the landmarker and the
-eigenface basis once, on its first task (:func:`exprclone.models.landmarker` and
-:func:`exprclone.models.default_eigenfaces` keep them), and keeps them for every task after.
+eigenface basis once, on its first task (:func:`exprclone.landmarks.backends.shared` and
+:func:`exprclone.geometry.eigenface.default_eigenfaces` keep them), and keeps them for every task after.
 
 A clone at 1350 pixels allocates and frees buffers of 22 MB (a float image). glibc's
 malloc keeps such buffers in its heap after the first few are freed, unless a
@@ -26,31 +26,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ExprCloneError, naming
-from ..landmarkers import DEFAULT
 from ..options import Options
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .manifest import Row
 
 if TYPE_CHECKING:
-    from .. import role_check
-    from ..cloner import Cloner
+    from ..pipeline import role_check
+    from ..pipeline.cloner import Cloner
 
 #: glibc's ``mallopt`` parameters (malloc.h) and the largest mmap threshold it accepts on 64-bit
 #: systems (its adaptive threshold's ceiling): buffers up to 32 MB stay in the heap.
 M_TRIM_THRESHOLD, M_MMAP_THRESHOLD, BUFFER_BYTES = -1, -3, 32 * 1024 * 1024
-
-
-@dataclass(frozen=True)
-class JobOptions:
-    """The job's options: ``method`` and ``lambda_k`` for rows that do not set their own, and for every row the
-    mouth interior, the :class:`~exprclone.options.Options` of the :class:`~exprclone.cloner.Cloner` (global and
-    image warp, strength, regions, retargeting) and the ``landmarker`` (:data:`exprclone.landmarkers.LANDMARKERS`)."""
-
-    method: str = "e+md"
-    lambda_k: float | str = "auto"
-    mouth: bool = True
-    options: Options = Options()
-    landmarker: str = DEFAULT
 
 
 @dataclass(frozen=True)
@@ -59,13 +45,13 @@ class Task:
 
     rows: tuple[Row, ...]
     landmarks: dict[str, np.ndarray] = field(repr=False)
-    options: JobOptions = JobOptions()
+    options: Options = Options()
 
 
 @dataclass(frozen=True)
 class Outcome:
     """What became of a row: ``done`` or ``failed`` (with the one-line error), its lambda_k, its seconds, and what looked
-    wrong with its source's photos (:func:`exprclone.role_check.judge_roles`)."""
+    wrong with its source's photos (:func:`exprclone.pipeline.role_check.judge_roles`)."""
 
     number: int
     status: str
@@ -86,10 +72,10 @@ def keep_buffers() -> None:
     libc.mallopt(M_TRIM_THRESHOLD, 2 * BUFFER_BYTES)
 
 
-def detect(paths: list[str], landmarker: str = DEFAULT) -> list[tuple[np.ndarray | None, str]]:
+def detect(paths: list[str], landmarker: str) -> list[tuple[np.ndarray | None, str]]:
     """The landmarks of each photo placed by ``landmarker``, or the problem that stopped them (no face, not an image)."""
     from ..io.images import load_image
-    from ..models import landmarker as shared
+    from ..landmarks.backends import shared
 
     keep_buffers()
 
@@ -106,9 +92,9 @@ def detect(paths: list[str], landmarker: str = DEFAULT) -> list[tuple[np.ndarray
 
 def clone_rows(task: Task) -> list[Outcome]:
     """Clone the task's rows, writing each output; a row that fails says why and the others go on."""
-    from .. import role_check
-    from ..cloner import Cloner
     from ..io.images import load_image
+    from ..pipeline import role_check
+    from ..pipeline.cloner import Cloner
 
     keep_buffers()
     start, first = time.perf_counter(), task.rows[0]
@@ -117,8 +103,8 @@ def clone_rows(task: Task) -> list[Outcome]:
             warnings.simplefilter("ignore")
             neutral, target = load_image(first.source_neutral), load_image(first.target_neutral)
             landmarks = task.landmarks[first.source_neutral], task.landmarks[first.target_neutral]
-            cloner = Cloner(neutral, landmarks[0], target, landmarks[1], options=task.options.options)
-            photo = role_check.Photo.of(neutral, landmarks[0], cloner.layout)  # the source's neutral, for each row's role check
+            cloner = Cloner(neutral, landmarks[0], target, landmarks[1], task.options)
+            photo = role_check.Photo.of(neutral, landmarks[0], cloner.faces.layout)  # the source's neutral, for each row's role check
     except ExprCloneError as e:
         return [Outcome(row.number, "failed", str(e)) for row in task.rows]
     outcomes = []
@@ -130,24 +116,21 @@ def clone_rows(task: Task) -> list[Outcome]:
 
 def _clone_row(cloner: Cloner, neutral: role_check.Photo, row: Row, task: Task, start: float) -> Outcome:
     """One row on the prepared faces: its expression cloned by its method, the output written, its source's photos checked
-    (:func:`exprclone.role_check.judge_roles`; ``neutral`` is the source's neutral photo's)."""
-    from .. import role_check
-    from ..checks import parse_lambda
+    (:func:`exprclone.pipeline.role_check.judge_roles`; ``neutral`` is the source's neutral photo's)."""
     from ..io.images import load_image, save_image
-    from ..methods import lookup
+    from ..pipeline import role_check
 
-    method = row.method or task.options.method
     try:
         with warnings.catch_warnings(), naming({SOURCE_EXPRESSION: row.source_expression}):
             warnings.simplefilter("ignore")
-            lookup((method,))
-            lambda_k = parse_lambda(row.lambda_k if row.lambda_k is not None else task.options.lambda_k)
+            own = cloner.changed(Options.from_text(dict(row.cells), task.options)) if row.cells else cloner
+            method = own.options.method
             expression = load_image(row.source_expression)
             points = task.landmarks[row.source_expression]
-            photo = role_check.Photo.of(expression, points, cloner.layout)
-            result = cloner.clone_methods(expression, points, (method,), lambda_k, mouth=task.options.mouth, crop=photo.crop)
+            photo = role_check.Photo.of(expression, points, cloner.faces.layout)
+            result = own.clone_methods(expression, points, crop=photo.crop)
             save_image(row.output, result[method].image, inputs=row.photos)
-            said = tuple(role_check.judge_roles(neutral, photo, cloner.layout))
+            said = tuple(role_check.judge_roles(neutral, photo, cloner.faces.layout))
     except ExprCloneError as e:
         return Outcome(row.number, "failed", str(e), seconds=time.perf_counter() - start)
     except Exception as e:  # a bug, not the input's fault: the row fails, the job goes on

@@ -8,7 +8,8 @@ import sys
 from typing import TYPE_CHECKING
 
 from ..errors import ExprCloneError
-from .inputs import add_expression, add_lambda, add_landmarker, add_mouth, add_transfer, load_expression, transfer_options
+from ..options import Options, names
+from .inputs import add_expression, add_options, load_expression, options_of
 
 if TYPE_CHECKING:
     import numpy as np
@@ -18,23 +19,20 @@ if TYPE_CHECKING:
 
 #: exit status when some rows failed (the others were done).
 EXIT_SOME_FAILED = 1
+#: the clone's options of a job, for every row (a manifest's row may change its own, :mod:`exprclone.batch.manifest`):
+#: all but the files of one clone.
+JOB = tuple(n for n in names(Options) if n not in ("global_landmarks", "eigenfaces"))
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    from ..methods import METHODS
-
     b = sub.add_parser("batch", help="many clones in one run: a manifest, or one expression on a folder of portraits")
-    b.add_argument("manifest", nargs="?", help="CSV: source_neutral,source_expression,target_neutral,output[,method,lambda]")
+    b.add_argument("manifest", nargs="?", help="CSV: source_neutral,source_expression,target_neutral,output[,method,lambda,...]")
     b.add_argument("--source-neutral", metavar="IMAGE", help="with --targets: the source's neutral photo")
     b.add_argument("--source-expression", metavar="IMAGE", help="with --targets: the source's photo with the expression")
     add_expression(b, "instead of --source-neutral and --source-expression, with --targets")
     b.add_argument("--targets", metavar="DIR_OR_GLOB", help="every portrait in a folder or glob gets the expression: OUT/<name>.png")
     b.add_argument("--out", metavar="DIR", help="where outputs go (default: the manifest's folder; needed with --targets)")
-    b.add_argument("--method", choices=METHODS, default="e+md", help="for rows without their own method (default: e+md)")
-    add_lambda(b, "for rows without their own lambda: auto (the DB metric) or a number (default: auto)")
-    add_landmarker(b)
-    add_mouth(b)
-    add_transfer(b, given=False)
+    add_options(b, Options, JOB)  # every row's, but what a row's own columns change
     add_workers(b)
     b.add_argument("--cache", metavar="DIR", help="keep the photos' landmarks here between runs (by the photos' content)")
     b.add_argument("--overwrite", action="store_true", help="redo rows whose output exists (default: skip them)")
@@ -94,7 +92,7 @@ def run(args: argparse.Namespace) -> None:
     rows, known = rows_of(args)
     folder = Path(args.out or Path(args.manifest).resolve().parent)
     report = args.report or str(folder / "report.csv")
-    options = work.JobOptions(args.method, args.lambda_k, args.mouth, transfer_options(args), args.landmarker)
+    options = options_of(args, Options, JOB)
     cache = None if args.cache is None else Path(args.cache)
     outcomes: dict[int, work.Outcome] = {}
     try:

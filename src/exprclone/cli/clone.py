@@ -10,12 +10,9 @@ from .inputs import add_inputs, load_inputs, source_photos
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    from ..methods import METHODS
-
     c = sub.add_parser("clone", help="put the source's expression on the target's face")
     add_inputs(c)
     c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
-    c.add_argument("--method", choices=METHODS, default="e+md", help="method of the paper's Fig. 11 (default: e+md)")
     c.add_argument("--save-json", metavar="OUT.json", help="write the landmarks of every stage, lambda_k and the DB curve")
 
 
@@ -28,14 +25,15 @@ def run(args: argparse.Namespace) -> None:
     if args.save_json:
         check_output_path(args.save_json, paths + [args.output], extensions=[".json"])
     inputs = load_inputs(args)
-    result = inputs.clone((args.method,))[args.method]
+    method = inputs.options.method
+    result = inputs.clone((method,))[method]
     save_image(args.output, result.image, inputs=paths)
     if args.save_json:
         record = json.dumps(result_record(result, inputs.names), indent=1).encode()
         atomic_write(args.save_json, lambda f: f.write(record))
     extra = "" if result.lambda_k is None else f", lambda_k={result.lambda_k:g}"
     source = "" if args.expression is None else f", expression {args.expression}"
-    print(f"{args.output}: {args.method}{source}{extra}{describe(result.options)}")
+    print(f"{args.output}: {method}{source}{extra}{describe(result.options)}")
 
 
 def describe(options: Options) -> str:

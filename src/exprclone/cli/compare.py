@@ -6,12 +6,13 @@ import argparse
 from dataclasses import replace
 
 from ..methods import FIGURES
+from ..options import Options, names
 from .inputs import add_inputs, load_inputs, source_photos
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     c = sub.add_parser("compare", help="the paper's Figs. 11-13 and the DB curve as one sheet, or its Figs. 19-21")
-    add_inputs(c)
+    add_inputs(c, tuple(n for n in names(Options) if n != "method"))  # every method is on the sheet
     c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
     c.add_argument(
         "--figure",

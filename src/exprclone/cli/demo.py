@@ -25,7 +25,7 @@ def run(args: argparse.Namespace) -> None:
     from .. import data
     from ..io.images import atomic_write, save_image
     from ..io.record import result_record
-    from ..pipeline import clone_methods
+    from ..pipeline.clone import clone_methods
 
     os.makedirs(args.output, exist_ok=True)
     people = (data.SOURCE, "neutral"), (data.SOURCE, "smile"), (data.TARGET, "neutral")
@@ -62,8 +62,8 @@ def built_in_smile(output: str, portrait: np.ndarray) -> str:
 def drive_video(output: str, portrait: np.ndarray) -> str:
     """The sample clip driving the portrait, side by side, with its sound; what was written."""
     from .. import data, drive
+    from ..drive.framing import resize_portrait, side_by_side
     from ..io import video as video_io
-    from ..io.frames import resize_portrait, side_by_side
 
     clip = str(data.clip())
     portrait, _ = resize_portrait(portrait, None, VIDEO_SIZE)

@@ -9,8 +9,8 @@ from collections.abc import Callable
 from typing import Any
 
 from ..errors import ExprCloneError
-from ..options import GLOBAL_WARPS, IMAGE_WARPS
-from .inputs import add_landmarker, strength_arg
+from ..options import GLOBAL_WARPS, IMAGE_WARPS, Options
+from .inputs import add_options, options_of, value_type
 
 
 def listed(parse: Callable[[str], Any] | tuple[str, ...], name: str) -> Callable[[str], tuple[Any, ...]]:
@@ -41,7 +41,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     e.add_argument("--methods", default="all", help="comma-separated methods, or all (default)")
     e.add_argument("--out", default="report", help="report folder (default: report/)")
     e.add_argument("--jobs", type=int, default=1, help="processes to use (default 1)")
-    add_landmarker(e, "places the clones' landmarks (the scores' are always dlib's, so that both compare)")
+    add_options(e, Options, ("landmarker",))  # the clones'; the scores' are always dlib's, so that both compare
     variants = "; every combination of --global-warps, --image-warps, --strengths and --retargets is a variant, scored beside the others"
     e.add_argument(
         "--global-warps",
@@ -57,8 +57,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         metavar="LIST",
         help=f"comma-separated image warps ({', '.join(IMAGE_WARPS)}; default mesh)",
     )
+    strength = value_type(Options, "strength")
     e.add_argument(
-        "--strengths", type=listed(strength_arg, "strength"), default=(1.0,), metavar="LIST", help="comma-separated strengths (default 1)"
+        "--strengths", type=listed(strength, "strength"), default=(1.0,), metavar="LIST", help="comma-separated strengths (default 1)"
     )
     e.add_argument(
         "--expression",
@@ -103,12 +104,13 @@ def run(args: argparse.Namespace) -> None:
     chosen = variants(args.global_warps, args.image_warps, args.strengths, args.retargets)
     bar = lambda total, what: Bar(sys.stderr, total, what)  # noqa: E731
     held = held_out([load(name) for name in args.expression], data) if args.expression else []
-    rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=bar, variants=chosen, landmarker=args.landmarker)
+    landmarker = str(options_of(args, Options, ("landmarker",)).landmarker)
+    rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=bar, variants=chosen, landmarker=landmarker)
     pair_rows = list(rows)
     sections: list[str] = []
     if held:
         jobs = max(1, args.jobs)
-        found, sections = expression_section(Path(args.out), data, held, rows, landmarks, methods, chosen, jobs, bar, args.landmarker)
+        found, sections = expression_section(Path(args.out), data, held, rows, landmarks, methods, chosen, jobs, bar, landmarker)
         rows += found
     command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"
     write_report(Path(args.out), data, rows, landmarks, methods, command, chosen, tuple(sections))

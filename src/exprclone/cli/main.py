@@ -9,9 +9,12 @@ imports nothing heavy until it runs.
 from __future__ import annotations
 
 import argparse
+import difflib
+import re
 import sys
 import warnings
-from typing import TextIO
+from collections.abc import Sequence
+from typing import Any, NoReturn, TextIO
 
 from .. import __version__
 from ..errors import ExprCloneError
@@ -34,8 +37,42 @@ COMMANDS = {
 }
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse's parser, its errors one line long: the problem, the closest option to a mistyped one, and the help of
+    the command used (``exprclone clone --help``), not a usage of every argument."""
+
+    words: list[str] = []
+
+    def parse_args(self, args: Sequence[str] | None = None, namespace: Any = None) -> Any:  # type: ignore[override]
+        Parser.words = list(sys.argv[1:] if args is None else args)
+        return super().parse_args(args, namespace)
+
+    def error(self, message: str) -> NoReturn:
+        command = self._command()
+        options = [o for action in command._actions for o in action.option_strings]
+        typed = [w.split("=")[0] for w in Parser.words if w.startswith("--") and w.split("=")[0] not in options]
+        if "unrecognized" in message:
+            close = [m for w in typed for m in difflib.get_close_matches(w, options, n=1, cutoff=0.6)]
+        else:  # an invalid choice: the closest of those the message lists
+            bad, choices = re.findall(r"invalid choice: '([^']*)'", message), re.findall(r"'([^']*)'", message.partition("choose from")[2])
+            close = difflib.get_close_matches(bad[0], choices, n=1, cutoff=0.6) if bad else []
+        hint = f" (did you mean {close[0]}?)" if close else ""
+        self.exit(EXIT_USAGE, f"exprclone: error: {message}{hint}; see {command.prog} --help\n")
+
+    def _command(self) -> argparse.ArgumentParser:
+        """The parser of the command the words name (a command's, or a study's subcommand's), else this one."""
+        parser: argparse.ArgumentParser = self
+        for word in Parser.words:
+            chosen = next(
+                (a.choices[word] for a in parser._actions if isinstance(a, argparse._SubParsersAction) and word in a.choices), None
+            )
+            if chosen is not None:
+                parser = chosen
+        return parser
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="exprclone", description="Facial expression cloning with elastic and muscle models (E+MD).")
+    parser = Parser(prog="exprclone", description="Facial expression cloning with elastic and muscle models (E+MD).")
     parser.add_argument("--version", action="version", version=f"exprclone {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     for command in COMMANDS.values():

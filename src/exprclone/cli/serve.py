@@ -58,7 +58,17 @@ def add_address(p: argparse.ArgumentParser) -> None:
     p.add_argument("--port", type=int, default=8000, help="port (default: 8000)")
 
 
+def server_packages() -> None:
+    """ExprCloneError unless the web server's packages are installed (the ``server`` extra: FastAPI, uvicorn, ...)."""
+    try:
+        import fastapi  # noqa: F401
+        import uvicorn  # noqa: F401
+    except ImportError as e:
+        raise ExprCloneError("serve", f"needs the web server's packages ({e.name} is missing): pip install 'exprclone[server]'") from None
+
+
 def run(args: argparse.Namespace) -> None:
+    server_packages()
     import uvicorn
 
     from ..server.app import create_app

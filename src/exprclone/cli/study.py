@@ -6,10 +6,14 @@ import argparse
 import sys
 
 from ..errors import ExprCloneError
+from ..options import Options, names
 from .batch import add_workers, backend_of
 from .evaluate import listed
-from .inputs import add_lambda, add_landmarker, add_mouth, add_transfer, transfer_options
-from .serve import add_address
+from .inputs import add_options, options_of
+from .serve import add_address, server_packages
+
+#: the clone's options of a study, for every set (each set is cloned by every method; a set's own lambda may change it).
+STUDY = tuple(n for n in names(Options) if n not in ("method", "global_landmarks", "eigenfaces"))
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -28,12 +32,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         help="comma-separated methods to compare (default: all)",
     )
     m.add_argument(
-        "--size", type=int, metavar="PIXELS", help="make the photos at most this long on their longest side (default: as they are)"
+        "--max-size", metavar="PIXELS", type=int, help="make the photos at most this long on their longest side (default: as they are)"
     )
-    add_lambda(m, "for sets without their own lambda: auto (the DB metric) or a number (default: auto)")
-    add_landmarker(m)
-    add_mouth(m)
-    add_transfer(m, given=False)
+    add_options(m, Options, STUDY)
     add_workers(m)
     m.add_argument("--overwrite", action="store_true", help="replace a study already in DIR, its ratings too")
     v = commands.add_parser("serve", help="serve a study's page to participants, saving their ratings in the study folder")
@@ -50,11 +51,10 @@ def run(args: argparse.Namespace) -> None:
 
 
 def make(args: argparse.Namespace) -> None:
-    from ..batch import work
     from ..io.progress import Bar
     from ..study.make import make as make_study
 
-    options = work.JobOptions(lambda_k=args.lambda_k, mouth=args.mouth, options=transfer_options(args), landmarker=args.landmarker)
+    options = options_of(args, Options, STUDY)
     backend = backend_of(args)
     make_study(
         args.manifest,
@@ -62,7 +62,7 @@ def make(args: argparse.Namespace) -> None:
         args.methods,
         options,
         backend,
-        size=args.size,
+        max_size=args.max_size,
         overwrite=args.overwrite,
         progress=lambda total, what: Bar(sys.stderr, total, what),
     )
@@ -70,6 +70,7 @@ def make(args: argparse.Namespace) -> None:
 
 
 def serve(args: argparse.Namespace) -> None:
+    server_packages()
     import uvicorn
 
     from ..study.app import create_app

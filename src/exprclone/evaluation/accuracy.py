@@ -4,7 +4,7 @@ Each neutral photo ``neutral_front/ID_03.jpg`` has a manual 189-point template
 (``ID_03.tem``), mapped to the 68 points by :func:`exprclone.io.frl_template.frl_to_68`.
 A landmarker's error on a photo is the mean distance of its points to the template's,
 over the template's outer-eye-corner distance (points 36 and 45), per region
-(:data:`REGIONS`). The mesh table (:data:`exprclone.mesh_layout.MESH_TO_68`) is fitted on
+(:data:`REGIONS`). The mesh table (:data:`exprclone.landmarks.mesh_layout.MESH_TO_68`) is fitted on
 the people of :func:`split`'s training part; the others are held out for its error.
 """
 
@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import ExprCloneError
 from ..io.frl_template import frl_to_68
 from ..io.landmarks import read_tem
-from ..layout import DLIB68
+from ..landmarks.layout import DLIB68
 
 #: the regions the error is given for, as index tuples of the 68-point layout.
 REGIONS = {

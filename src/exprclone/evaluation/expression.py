@@ -23,10 +23,9 @@ import numpy as np
 from ..errors import ExprCloneError
 from ..expressions import Expression
 from ..io.progress import Progress, Quiet
-from ..landmarkers import DEFAULT
-from ..layout import DLIB68
-from ..models import landmarker as shared
-from ..pipeline import clone_methods
+from ..landmarks.backends import DEFAULT, shared
+from ..landmarks.layout import DLIB68
+from ..pipeline.clone import clone_methods
 from . import runner
 from .judge import SMILING
 from .london import Dataset
@@ -268,7 +267,7 @@ def section(
     variants: tuple[Variant, ...],
     jobs: int,
     progress: Progress,
-    landmarker: str = DEFAULT,
+    landmarker: str | None = None,
 ) -> tuple[list[Row], list[str]]:
     """Score the held-out people with their expressions (:func:`run`), the clones' landmarks placed by ``landmarker``,
     and draw their contact sheet (``out/expressions.jpg``).
@@ -282,7 +281,8 @@ def section(
     """
     from ..io.images import save_image
 
-    inputs = landmarks if landmarker == runner.JUDGE else {p: shared(landmarker).detect(runner.photo(p), p) for p in landmarks}
+    chosen = landmarker or DEFAULT
+    inputs = landmarks if chosen == runner.JUDGE else {p: shared(chosen).detect(runner.photo(p), p) for p in landmarks}
     found = run(data, held, methods, landmarks, jobs, progress, variants, inputs)
     strength = {p: runner.smile_strength(*(landmarks[data.path(p, s)] for s in (False, True))) for p in data.ids}
     broad = {p for p, value in strength.items() if value >= STRONG_SMILE}

@@ -20,11 +20,11 @@ from dataclasses import replace
 import cv2
 import numpy as np
 
-from .. import raster
-from ..cloner import CloneResult
+from ..geometry.db_metric import DBCurve
+from ..imaging import raster
 from ..methods import FIGURES, METHODS, TABLE
-from ..metric import DBCurve
 from ..options import GIVEN, Options
+from ..pipeline.cloner import CloneResult
 from ..roles import SOURCE_EXPRESSION, TARGET_NEUTRAL
 
 CELL = 320

@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import geometry
-from ..layout import DLIB68, Layout
+from ..landmarks import align
+from ..landmarks.layout import DLIB68, Layout
 from .london import Dataset
 
 #: principal components of the expression's landmarks the judge reads.
@@ -79,7 +79,7 @@ class SmileJudge:
         True
         """
         shapes = list(neutral) + list(smiling)
-        reference = np.mean([geometry.apply(geometry.fit_rigid(s, shapes[0], layout), s) for s in shapes], axis=0)
+        reference = np.mean([align.apply(align.fit_rigid(s, shapes[0], layout), s) for s in shapes], axis=0)
         x = np.array([_aligned(s, reference, layout) for s in shapes])
         mean = x.mean(axis=0)
         components = np.linalg.svd(x - mean, full_matrices=False)[2][:COMPONENTS]
@@ -96,7 +96,7 @@ class SmileJudge:
 
 def _aligned(points: np.ndarray, reference: np.ndarray, layout: Layout) -> np.ndarray:
     """The expression's landmarks in the reference's frame, in its outer-eye-corner distances, flattened."""
-    placed = geometry.apply(geometry.fit_rigid(points, reference, layout), points) / geometry.interocular(reference, layout)
+    placed = align.apply(align.fit_rigid(points, reference, layout), points) / align.interocular(reference, layout)
     return placed[expression_points(layout)].ravel()
 
 

@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from ..io.images import save_image
-from ..layout import DLIB68
-from ..mouth import mouth_width
+from ..landmarks.layout import DLIB68
+from ..mouth.measure import mouth_width
 from .london import Dataset
 from .runner import FIELDS, PAPER, Row, Variant, clone_pair, photo
 from .scores import TEETH_SHOWN

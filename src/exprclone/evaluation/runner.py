@@ -43,17 +43,17 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from .. import geometry, global_warp
-from ..cloner import CloneResult
 from ..errors import ExprCloneError, naming
+from ..geometry import global_warp
 from ..io.images import load_image
 from ..io.progress import Display, Progress, Quiet
-from ..landmarkers import DEFAULT
-from ..layout import DLIB68
-from ..models import landmarker as shared
-from ..mouth import mouth_width
+from ..landmarks import align
+from ..landmarks.backends import DEFAULT, shared
+from ..landmarks.layout import DLIB68
+from ..mouth.measure import mouth_width
 from ..options import GLOBAL_WARPS, IMAGE_WARPS, Options
-from ..pipeline import clone_methods
+from ..pipeline.clone import clone_methods
+from ..pipeline.cloner import CloneResult
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .judge import trained_without
 from .london import Dataset
@@ -115,7 +115,7 @@ def smile_strength(neutral: np.ndarray, smile: np.ndarray) -> float:
 
 def _relative_width(landmarks: np.ndarray) -> float:
     """The mouth's width over the outer-eye-corner distance."""
-    return mouth_width(landmarks, DLIB68) / geometry.interocular(landmarks, DLIB68)
+    return mouth_width(landmarks, DLIB68) / align.interocular(landmarks, DLIB68)
 
 
 def variant_label(options: Options) -> str:
@@ -247,10 +247,10 @@ def run(
     jobs: int = 1,
     progress: Progress = Quiet,
     variants: tuple[Variant, ...] = (PAPER,),
-    landmarker: str = DEFAULT,
+    landmarker: str | None = None,
 ) -> tuple[list[Row], dict[str, np.ndarray]]:
     """Score every pair (in ``jobs`` processes), each method in each of ``variants`` (:func:`variants`), the clones'
-    landmarks placed by ``landmarker`` (:data:`exprclone.landmarkers.LANDMARKERS`), the scores' by the :data:`JUDGE`.
+    landmarks placed by ``landmarker`` (:data:`exprclone.landmarks.backends.LANDMARKERS`), the scores' by the :data:`JUDGE`.
 
     ``progress(total, what)`` makes a display of how many of ``total``
     things are done (:data:`exprclone.io.progress.Progress`): one for the photos'
@@ -263,6 +263,7 @@ def run(
     landmarks : dict of str to ndarray
         The judge's landmarks on each photo, by path (detected once, shared by all pairs).
     """
+    chosen = landmarker or DEFAULT
     people = data.ids  # all of them: the expression judge learns from the people not in a pair
     paths = [data.path(p, s) for p in people for s in (False, True)]
     landmarks: dict[str, np.ndarray] = {}
@@ -270,7 +271,7 @@ def run(
     bar = progress(len(paths), "landmarks")
     for k, path in enumerate(paths, 1):
         landmarks[path] = shared(JUDGE).detect(photo(path), path)
-        inputs[path] = landmarks[path] if landmarker == JUDGE else shared(landmarker).detect(photo(path), path)
+        inputs[path] = landmarks[path] if chosen == JUDGE else shared(chosen).detect(photo(path), path)
         bar.update(k)
     tasks = [(data, pair, methods, landmarks, variants, inputs) for pair in pairs]
     rows = [row for pair_rows in in_parallel(_score, tasks, jobs, progress(len(pairs), "pairs")) for row in pair_rows]

@@ -24,14 +24,16 @@ from typing import TYPE_CHECKING, Any
 import cv2
 import numpy as np
 
-from .. import eri, geometry, raster, warp
-from ..landmarks import model_path
-from ..layout import Layout
-from ..mouth import interior, mouth_width
+from ..details import eri
+from ..imaging import piecewise, raster
+from ..landmarks import align
+from ..landmarks.dlib import model_path
+from ..landmarks.layout import Layout
+from ..mouth.measure import interior, mouth_width
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 
 if TYPE_CHECKING:
-    from ..cloner import CloneResult
+    from ..pipeline.cloner import CloneResult
 
 #: dlib's threshold: descriptors closer than this are the same person.
 SAME_PERSON = 0.6
@@ -42,7 +44,7 @@ SAME_PERSON = 0.6
 #: that show teeth to the eye (0.0055).
 TEETH_SHOWN = 0.004
 #: a change of luma by this factor or more between the source's two photos is no shading: the
-#: ERI is clamped to [0.7, 1.4] (:data:`exprclone.eri.CLAMP`), and hair against skin, skin
+#: ERI is clamped to [0.7, 1.4] (:data:`exprclone.details.eri.CLAMP`), and hair against skin, skin
 #: against the background or a highlight against skin differ by more.
 SWAP_FACTOR = 2.0
 
@@ -63,14 +65,14 @@ def landmark_error(result: np.ndarray, truth: np.ndarray, layout: Layout) -> dic
 
     Examples
     --------
-    >>> from exprclone.layout import DLIB68
+    >>> from exprclone.landmarks.layout import DLIB68
     >>> truth = np.random.default_rng(0).uniform(0, 500, (68, 2))
-    >>> moved = geometry.apply(np.array([[0.0, -2.0, 40.0], [2.0, 0.0, 3.0]]), truth)
+    >>> moved = align.apply(np.array([[0.0, -2.0, 40.0], [2.0, 0.0, 3.0]]), truth)
     >>> landmark_error(moved, truth, DLIB68)["overall"] < 1e-9
     True
     """
-    aligned = geometry.apply(geometry.fit_similarity(result, truth), result)
-    d = np.linalg.norm(aligned - truth, axis=1) / geometry.interocular(truth, layout)
+    aligned = align.apply(align.fit_similarity(result, truth), result)
+    d = np.linalg.norm(aligned - truth, axis=1) / align.interocular(truth, layout)
     mouth = list(layout.mouth_outer + layout.mouth_inner)
     eyes_brows = [i for group in layout.eyes + layout.brows for i in group]
     return {"overall": float(d.mean()), "mouth": float(d[mouth].mean()), "eyes_brows": float(d[eyes_brows].mean())}
@@ -80,7 +82,7 @@ def teeth(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> float:
     """Area of tooth-coloured pixels inside the inner lips, in squared mouth widths.
 
     Teeth are told from lips, tongue and the dark mouth cavity by being paler and
-    brighter than the lips around them (:func:`exprclone.mouth.interior`); the lips are
+    brighter than the lips around them (:func:`exprclone.mouth.measure.interior`); the lips are
     the reference because they are lit as the mouth is, where the eye whites of a
     squinting smile are not there to see. A closed mouth, whose inner-lip polygon has no
     area, scores 0; teeth show from :data:`TEETH_SHOWN` on.
@@ -127,29 +129,28 @@ def material_swaps(result: CloneResult, source_neutral: np.ndarray, source_expre
 
     Both photos are placed on the result's final geometry as the ERI places them (the
     mesh of the target's neutral landmarks, each photo's rigid landmarks aligned), their
-    luma smoothed at the ERI's scale (:data:`exprclone.eri.FILTER_SIGMA`); a swap is
+    luma smoothed at the ERI's scale (:data:`exprclone.details.eri.FILTER_SIGMA`); a swap is
     where one is :data:`SWAP_FACTOR` times as bright as the other, inside the ERI's face
-    mask (:func:`exprclone.eri.ratio_mask`): a fringe that moved, a highlight, a shadow's
+    mask (:func:`exprclone.details.eri.ratio_mask`): a fringe that moved, a highlight, a shadow's
     edge.
 
     Parameters
     ----------
-    result : exprclone.cloner.CloneResult
+    result : exprclone.pipeline.cloner.CloneResult
     source_neutral, source_expression : ndarray of shape (h, w, 3), uint8 RGB
         The source's photos the result was made from.
     layout : Layout
     """
     marks, shape = result.landmarks, result.image.shape
-    mesh = warp.build_mesh(marks[TARGET_NEUTRAL], shape, layout)
+    mesh = piecewise.build_mesh(marks[TARGET_NEUTRAL], shape, layout)
     dst = mesh.control_points(marks["final"])
     placed = [
-        mesh.control_points(p, geometry.fit_rigid(marks[TARGET_NEUTRAL], p, layout))
-        for p in (marks[SOURCE_NEUTRAL], marks[SOURCE_EXPRESSION])
+        mesh.control_points(p, align.fit_rigid(marks[TARGET_NEUTRAL], p, layout)) for p in (marks[SOURCE_NEUTRAL], marks[SOURCE_EXPRESSION])
     ]
     neutral, expression = (
-        warp.warp(image, c, dst, mesh.triangles, shape[:2]) for image, c in zip((source_neutral, source_expression), placed)
+        piecewise.warp(image, c, dst, mesh.triangles, shape[:2]) for image, c in zip((source_neutral, source_expression), placed)
     )
-    sigma = eri.FILTER_SIGMA * geometry.interocular(marks["final"], layout)
+    sigma = eri.FILTER_SIGMA * align.interocular(marks["final"], layout)
     blurred = [cv2.GaussianBlur(eri.luminance(image), (0, 0), sigma) + raster.EPS for image in (neutral, expression)]
     face = eri.ratio_mask(shape[:2], dst[: mesh.n_landmarks], dst[mesh.forehead], layout) > 0.5
     return face & (np.abs(np.log(blurred[1] / blurred[0])) > np.log(SWAP_FACTOR))

@@ -32,7 +32,7 @@ from ..errors import ExprCloneError
 from .files import Expression, read
 
 if TYPE_CHECKING:
-    from ..pipeline import CloneResult
+    from ..pipeline.clone import CloneResult
 
 __all__ = ["Expression", "clone", "folder", "load", "names"]
 
@@ -77,7 +77,6 @@ def _shipped(name: str) -> Expression:
 def clone(
     target_neutral: np.ndarray,
     expression: str | Expression = DEFAULT,
-    method: str = "e+md",
     *,
     target_landmarks: np.ndarray | None = None,
     **options: Any,
@@ -90,13 +89,11 @@ def clone(
         The one photo needed.
     expression : str or Expression
         A name of :func:`names` (or a ``.json`` file, :func:`load`), or a loaded expression.
-    method : str
-        One of :data:`exprclone.METHODS`.
     target_landmarks : ndarray of shape (68, 2), optional
         The target's landmarks; detected if not given.
     **options
-        As for :func:`exprclone.clone`: ``lambda_k``, ``strength``, ``only``, ``global_warp``,
-        ``image_warp``, ``retarget``, ``mouth``, ``landmarker``, ``eigenfaces``.
+        As for :func:`exprclone.clone`: ``options=Options(...)``, or options as keywords (``method``, ``lambda_k``,
+        ``strength``, ...: :class:`~exprclone.options.Options`).
 
     Returns
     -------
@@ -109,8 +106,8 @@ def clone(
     >>> result.image.shape
     (1350, 1350, 3)
     """
-    from ..pipeline import clone as clone_pair
+    from ..pipeline.clone import clone as clone_pair
 
     chosen = expression if isinstance(expression, Expression) else load(expression)
     landmarks = (chosen.neutral.points, chosen.expression.points, target_landmarks)
-    return clone_pair(chosen.neutral.image, chosen.expression.image, target_neutral, method, landmarks=landmarks, **options)
+    return clone_pair(chosen.neutral.image, chosen.expression.image, target_neutral, landmarks=landmarks, **options)

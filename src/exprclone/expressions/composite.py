@@ -8,13 +8,13 @@ A composite is made in four steps (Benson and Perrett 1993; Tiddeman, Burt and P
    mean of the aligned points (generalised Procrustes analysis, :func:`reference`);
 2. the average shape is the mean of the aligned landmarks;
 3. every photo is warped to the average shape (the piecewise-affine warp over the mesh
-   of :mod:`exprclone.warp`, forehead and border points included);
+   of :mod:`exprclone.imaging.piecewise`, forehead and border points included);
 4. the warped photos' pixels are averaged.
 
 A prototype expression is a pair of composites of the same people (:func:`build`): their
 neutral photos and their expression photos, both aligned on the rigid points to one
 reference, so that the difference of the two average shapes is the average expression's
-motion with each head's own motion taken out (as :func:`exprclone.global_warp.remove_head_motion`
+motion with each head's own motion taken out (as :func:`exprclone.geometry.global_warp.remove_head_motion`
 takes it out of one person's pair). Averaging keeps what the faces share (the smile's
 motion, the folds it makes) and washes out what belongs to one of them (the shape of a
 nose, a mole, the shape of a person's own smile).
@@ -37,10 +37,11 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from .. import geometry, raster, warp
-from ..layout import DLIB68, Layout
-from ..mouth import mouth_width
-from ..mouth_fill import FEATHER
+from ..imaging import piecewise, raster
+from ..landmarks import align
+from ..landmarks.layout import DLIB68, Layout
+from ..mouth.measure import mouth_width
+from ..mouth.paste import FEATHER
 
 #: rounds of generalised Procrustes analysis: the reference moves by less than 1e-6 of its size after three.
 PROCRUSTES_ROUNDS = 5
@@ -80,7 +81,7 @@ def reference(shapes: list[np.ndarray], layout: Layout = DLIB68, size: tuple[int
     Each round aligns every shape's rigid points to the reference by a similarity and
     takes their mean as the new reference; the last reference is scaled to ``iod``
     between the outer eye corners, levelled, and centred in a frame of ``size`` (the
-    box from :data:`exprclone.warp.FOREHEAD_HEIGHT` above the brows to the chin).
+    box from :data:`exprclone.imaging.piecewise.FOREHEAD_HEIGHT` above the brows to the chin).
 
     Parameters
     ----------
@@ -98,40 +99,40 @@ def reference(shapes: list[np.ndarray], layout: Layout = DLIB68, size: tuple[int
     rigid = list(layout.rigid)
     mean = shapes[0]
     for _ in range(PROCRUSTES_ROUNDS):
-        mean = np.mean([geometry.apply(geometry.fit_similarity(s[rigid], mean[rigid]), s) for s in shapes], axis=0)
+        mean = np.mean([align.apply(align.fit_similarity(s[rigid], mean[rigid]), s) for s in shapes], axis=0)
     i, j = layout.eye_corners
     axis = mean[j] - mean[i]
     angle, scale = np.arctan2(axis[1], axis[0]), iod / np.linalg.norm(axis)
     c, s = scale * np.cos(-angle), scale * np.sin(-angle)
     levelled = mean @ np.array([[c, -s], [s, c]]).T
     brows = levelled[list(layout.brows[0] + layout.brows[1])]
-    top, bottom = brows[:, 1].min() - warp.FOREHEAD_HEIGHT * iod, levelled[:, 1].max()
+    top, bottom = brows[:, 1].min() - piecewise.FOREHEAD_HEIGHT * iod, levelled[:, 1].max()
     centre = np.array([(levelled[i, 0] + levelled[j, 0]) / 2, (top + bottom) / 2])
     return levelled - centre + (size[1] / 2, size[0] / 2)
 
 
-def align(points: np.ndarray, onto: np.ndarray, layout: Layout = DLIB68) -> np.ndarray:
+def to_frame(points: np.ndarray, onto: np.ndarray, layout: Layout = DLIB68) -> np.ndarray:
     """The similarity taking a photo's landmarks into the frame of ``onto`` (their rigid points best aligned), ``(2, 3)``."""
-    return geometry.fit_rigid(points, onto, layout)
+    return align.fit_rigid(points, onto, layout)
 
 
 def to_shape(face: Face, shape: np.ndarray, size: tuple[int, int] = SIZE, layout: Layout = DLIB68) -> np.ndarray:
     """One photo warped to ``shape`` in the composite's frame: float32 ``(H, W, 3)``.
 
     The photo is first brought to the frame's scale (area averaging, no aliasing), then
-    warped over the mesh of ``shape`` (:func:`exprclone.warp.build_mesh`), its forehead
-    and border points placed by the photo's alignment (:func:`align`).
+    warped over the mesh of ``shape`` (:func:`exprclone.imaging.piecewise.build_mesh`), its forehead
+    and border points placed by the photo's alignment (:func:`to_frame`).
     """
-    transform = align(face.points, shape, layout)
+    transform = to_frame(face.points, shape, layout)
     scale = float(np.hypot(*transform[:, 0]))
     image, points = face.image, np.asarray(face.points, float)
     if scale < 1.0:
         image = cv2.resize(image, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA)
         points = points * (np.array(image.shape[1::-1]) / face.image.shape[1::-1])
-        transform = align(points, shape, layout)
-    mesh = warp.build_mesh(shape, size, layout)
+        transform = to_frame(points, shape, layout)
+    mesh = piecewise.build_mesh(shape, size, layout)
     into_photo = cv2.invertAffineTransform(transform)
-    return warp.warp(image.astype(np.float32), mesh.control_points(points, into_photo), mesh.points, mesh.triangles, size)
+    return piecewise.warp(image.astype(np.float32), mesh.control_points(points, into_photo), mesh.points, mesh.triangles, size)
 
 
 def average(faces: list[Face], shape: np.ndarray, size: tuple[int, int] = SIZE, layout: Layout = DLIB68) -> np.ndarray:
@@ -164,13 +165,13 @@ def build(pairs: list[tuple[Face, Face]], layout: Layout = DLIB68, size: tuple[i
     Composite
     """
     frame = reference([n.points for n, _ in pairs], layout, size, iod)
-    shapes = [np.mean([geometry.apply(align(face.points, frame, layout), face.points) for face in faces], axis=0) for faces in zip(*pairs)]
+    shapes = [np.mean([align.apply(to_frame(face.points, frame, layout), face.points) for face in faces], axis=0) for faces in zip(*pairs)]
     neutral, expression = (Face(average(list(faces), s, size, layout), s) for faces, s in zip(zip(*pairs), shapes))
     return Composite(neutral, expression)
 
 
 def interior_mask(points: np.ndarray, size: tuple[int, int], layout: Layout = DLIB68) -> np.ndarray:
-    """The inside of the inner lips, feathered as :func:`exprclone.mouth_fill.fill_interior` feathers its paste: ``(H, W)`` float32."""
+    """The inside of the inner lips, feathered as :func:`exprclone.mouth.paste.fill_interior` feathers its paste: ``(H, W)`` float32."""
     polygon = raster.fill_polygon(np.zeros(size, np.float32), points[list(layout.mouth_inner)], 1.0)
     sigma = max(FEATHER * mouth_width(points, layout), 0.5)
     return cv2.GaussianBlur(raster.erode(polygon, max(1, int(round(sigma)))), (0, 0), sigma) * polygon
@@ -210,5 +211,5 @@ def mouth_distance(points: np.ndarray, shape: np.ndarray, layout: Layout = DLIB6
     0.0
     """
     lips = list(layout.mouth_outer + layout.mouth_inner)
-    aligned = geometry.apply(geometry.fit_similarity(points[lips], shape[lips]), points[lips])
+    aligned = align.apply(align.fit_similarity(points[lips], shape[lips]), points[lips])
     return float(np.linalg.norm(aligned - shape[lips], axis=1).mean() / mouth_width(shape, layout))

@@ -22,9 +22,9 @@ from typing import IO, Any
 
 import numpy as np
 
-from ..checks import check_points
 from ..errors import ExprCloneError
-from ..layout import DLIB68
+from ..landmarks.layout import DLIB68
+from ..pipeline.checks import check_points
 from .composite import Face
 
 #: the JPEG quality of a composite written by :func:`write`: 90 keeps the teeth's edges (95 doubles the size).

@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ExprCloneError
-from ..layout import weight_matrix
+from ..landmarks.layout import weight_matrix
 
 #: for each of the 68 points: ((template index, weight), ...), weights summing to 1.
 FRL189_TO_DLIB68 = (

@@ -8,9 +8,9 @@ import re
 
 import numpy as np
 
-from ..checks import check_face, check_finite, check_points
 from ..errors import ExprCloneError
-from ..layout import DLIB68
+from ..landmarks.layout import DLIB68
+from ..pipeline.checks import check_face, check_finite, check_points
 from .frl_template import frl_to_68
 from .images import atomic_write
 

@@ -6,7 +6,7 @@ import math
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from ..cloner import CloneResult
+    from ..pipeline.cloner import CloneResult
 
 
 def _number(value: float | None) -> float | str | None:
@@ -15,7 +15,7 @@ def _number(value: float | None) -> float | str | None:
 
 
 def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]:
-    """The record of a :class:`~exprclone.cloner.CloneResult`.
+    """The record of a :class:`~exprclone.pipeline.cloner.CloneResult`.
 
     Parameters
     ----------
@@ -30,7 +30,7 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
         all were given), ``options`` (``global_warp``: similarity, rbf or given;
         ``image_warp``, ``strength``, ``only``, ``retarget``), ``lambda_k``, ``db_curve`` (lambda_k and
         DB of each candidate), ``muscle_strengths``, ``unfolded_points``, ``warnings`` (what looked
-        wrong with the inputs, :func:`exprclone.role_check.judge_roles`) and ``landmarks`` (of each stage, to 1/1000 pixel).
+        wrong with the inputs, :func:`exprclone.pipeline.role_check.judge_roles`) and ``landmarks`` (of each stage, to 1/1000 pixel).
     """
     curve, options = result.db_curve, result.options
     return {

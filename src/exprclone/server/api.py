@@ -15,17 +15,16 @@ from fastapi.responses import FileResponse, JSONResponse, Response
 
 from .. import __version__, expressions
 from .. import data as samples
-from ..checks import check_choices, parse_lambda
 from ..errors import ExprCloneError, naming
 from ..io.images import check_size
 from ..io.video import probe
-from ..landmarkers import DEFAULT, LANDMARKERS, check_landmarker
-from ..methods import FIGURES, METHODS, lookup
-from ..options import GLOBAL_WARPS, IMAGE_WARPS, REGIONS, STRENGTH_RANGE, Options
+from ..methods import FIGURES
+from ..options import Driving, Framing, Options, names, spec
 from ..roles import ROLES, SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from . import work
-from .app import Server
+from .forms import Asked, options_form
 from .openapi import errors
+from .state import Server
 
 router = APIRouter()
 
@@ -41,45 +40,18 @@ SAMPLES: dict[str, Callable[[], Path]] = {
 }
 #: what the landmark files may be (their client file name's extension is the only part of it used).
 LANDMARK_EXTENSIONS = (".json", ".tem")
-#: the largest video size a job may ask for (its portrait's longest side, pixels).
-MAX_VIDEO_SIZE = 2048
 
 Photo = Annotated[UploadFile, File(description="a photo (JPEG, PNG, ...)")]
 SourcePhoto = Annotated[UploadFile | None, File(description="a photo of the source person (JPEG, PNG, ...); not with expression")]
 Landmarks = Annotated[UploadFile | None, File(description='its landmarks: .json ([[x, y], ...] or {"landmarks": ...}) or a .tem template')]
-Method = Annotated[str, Form(description=f"one of {', '.join(METHODS)}")]
-Lambda = Annotated[str, Form(alias="lambda", description="the elasticity ratio k_A'/k_N: auto (the DB metric chooses) or a number >= 0")]
-Mouth = Annotated[bool, Form(description="paste the source's mouth interior (teeth) into an opened mouth")]
-LandmarkerField = Annotated[
-    str,
-    Form(description=f"which landmarker places the landmarks of photos without a landmark file: {' or '.join(LANDMARKERS)}"),
-]
-GlobalLandmarks = Annotated[
-    UploadFile | None, File(description="the target's expression landmarks from any other method (.json or .tem), taken as GI (Fig. 21)")
-]
-
-
-async def transfer_form(
-    global_warp: Annotated[
-        str | None,
-        Form(description=f"how the source's motion reaches the target: {' or '.join(GLOBAL_WARPS)} (default: similarity; rbf for Fig. 19)"),
-    ] = None,
-    image_warp: Annotated[str, Form(description=f"how the photo follows its landmarks: {' or '.join(IMAGE_WARPS)}")] = IMAGE_WARPS[0],
-    strength: Annotated[
-        float, Form(ge=STRENGTH_RANGE[0], le=STRENGTH_RANGE[1], description="how much of the expression: 0 (none) to 2, 1 all of it")
-    ] = 1.0,
-    only: Annotated[str, Form(description=f"comma-separated regions ({', '.join(REGIONS)}) whose motion alone is transferred")] = "",
-    retarget: Annotated[
-        bool, Form(description="make the source's motion the target's (default); false: the paper's global and local stages")
-    ] = True,
-) -> work.Asked:
-    """The options of :class:`exprclone.options.Options` from the form, checked as the Python API checks them
-    (:func:`exprclone.checks.check_choices`; the given GI comes as a file, read with the target photo)."""
-    asked = Options(global_warp or GLOBAL_WARPS[0], None, image_warp, strength, tuple(only.split(",")) if only else None, retarget)
-    return work.Asked(check_choices(asked, REGIONS), global_warp is not None)
-
-
-Transfer = Annotated[work.Asked, Depends(transfer_form)]
+GlobalLandmarks = Annotated[UploadFile | None, File(description=spec(Options, "global_landmarks").help)]
+#: the clone's options of each route, as form fields (:func:`exprclone.server.forms.options_form`).
+CloneOptions = Annotated[Asked, Depends(options_form(Options))]
+CompareOptions = Annotated[Asked, Depends(options_form(Options, tuple(n for n in names(Options) if n != "method")))]
+VideoOptions = Annotated[Asked, Depends(options_form(Options, tuple(n for n in names(Options) if n != "global_landmarks")))]
+DrivingForm = Annotated[Asked, Depends(options_form(Driving))]
+FramingForm = Annotated[Asked, Depends(options_form(Framing))]
+LandmarkerForm = Annotated[Asked, Depends(options_form(Options, ("landmarker",)))]
 
 
 async def read_optional(upload: UploadFile | None, field: str, extensions: tuple[str, ...] = ()) -> work.Upload | None:
@@ -106,21 +78,9 @@ async def read_upload(upload: UploadFile | None, field: str) -> work.Upload:
     return found
 
 
-async def clone_request(
-    server: Server,
-    method: str,
-    lambda_text: str,
-    mouth: bool,
-    uploads: dict[str, Any],
-    transfer: work.Asked,
-    figure: str = FIGURES[0],
-    landmarker: str = DEFAULT,
-) -> work.CloneRequest:
-    """The checked request: the method and landmarker known, lambda valid, the options checked, three photos (or the
-    target's and a built-in ``expression``, :func:`source_roles`) and any landmark files read."""
-    lookup((method,))
-    check_landmarker(landmarker)
-    lambda_k = parse_lambda(lambda_text)
+async def clone_request(server: Server, uploads: dict[str, Any], asked: Asked, figure: str = FIGURES[0]) -> work.CloneRequest:
+    """The checked request: the options checked (by the form), three photos (or the target's and a built-in
+    ``expression``, :func:`source_roles`) and any landmark files read."""
     if figure not in FIGURES:
         raise ExprCloneError("figure", f"must be {' or '.join(FIGURES)}, got {figure!r}")
     expression = uploads["expression"]
@@ -132,10 +92,8 @@ async def clone_request(
         for role in ROLES
     ]
     given = await read_optional(uploads["global_landmarks"], "global_landmarks", LANDMARK_EXTENSIONS)
-    max_pixels = server.settings.max_pixels
     photos, marked = (sn, se, tn), (marks[0], marks[1], marks[2])
-    asked = (method, lambda_k, mouth, max_pixels, transfer, given, figure, landmarker)
-    return work.CloneRequest(photos, marked, *asked, expression=expression)
+    return work.CloneRequest(photos, marked, asked.options, server.settings.max_pixels, given, figure, asked.given, expression)
 
 
 def source_roles(uploads: dict[str, UploadFile | None], expression: str | None) -> tuple[str, ...]:
@@ -187,11 +145,10 @@ async def expression_names() -> dict[str, list[dict[str, str]]]:
 
 
 @router.post("/api/landmarks", responses=errors(400, 413, 422, 503))
-async def landmarks(server: Server, photo: Photo, landmarker: LandmarkerField = DEFAULT) -> dict[str, Any]:
+async def landmarks(server: Server, photo: Photo, asked: LandmarkerForm) -> dict[str, Any]:
     """The landmarks detected on a photo: ``{"width", "height", "landmarks": [[x, y], ...]}`` (68 points)."""
-    check_landmarker(landmarker)
     upload = await read_upload(photo, "photo")
-    found: dict[str, Any] = await server.run(work.landmarks, upload, server.settings.max_pixels, landmarker)
+    found: dict[str, Any] = await server.run(work.landmarks, upload, server.settings.max_pixels, asked.options.landmarker)
     return found
 
 
@@ -238,11 +195,7 @@ ANSWERS = {
 async def clone(
     server: Server,
     uploads: Uploads,
-    transfer: Transfer,
-    method: Method = "e+md",
-    lambda_text: Lambda = "auto",
-    mouth: Mouth = True,
-    landmarker: LandmarkerField = DEFAULT,
+    asked: CloneOptions,
     format: Annotated[
         str,
         Query(
@@ -255,11 +208,10 @@ async def clone(
     """The source's expression on the target: PNG, JPEG or WebP (``?format=``), or with ``?format=json`` the JSON record of
     ``--save-json`` plus ``png`` (base64).
 
-    ``global_warp``, ``image_warp``, ``strength``, ``only``, ``retarget``, ``global_landmarks`` and ``landmarker`` are the
-    options of ``exprclone clone``."""
-    asked = await clone_request(server, method, lambda_text, mouth, uploads, transfer, landmarker=landmarker)
+    The options are those of ``exprclone clone``, by the same names (``lambda`` for ``--lambda``)."""
+    request = await clone_request(server, uploads, asked)
     extension, media_type = ANSWERS[format]
-    encoded, record = await server.run(work.clone, asked, extension)
+    encoded, record = await server.run(work.clone, request, extension)
     if format == "json":
         return JSONResponse({**record, "png": base64.b64encode(encoded).decode()})
     return Response(encoded, media_type=media_type)
@@ -271,28 +223,16 @@ async def clone(
 async def compare(
     server: Server,
     uploads: Uploads,
-    transfer: Transfer,
-    lambda_text: Lambda = "auto",
-    mouth: Mouth = True,
+    asked: CompareOptions,
     figure: Annotated[
         str, Form(description="11: Figs. 11-13 and the DB curve; 19: the elastic model on the RBF result (Figs. 19-21)")
     ] = FIGURES[0],
-    landmarker: LandmarkerField = DEFAULT,
 ) -> Response:
     """Every method of Fig. 11, the difference images of Figs. 12-13 and the DB curve, as one PNG sheet; or Figs. 19-21
     (``figure=19``: the elastic model on the RBF transfer's result, or on ``global_landmarks``)."""
-    asked = await clone_request(server, "e+md", lambda_text, mouth, uploads, transfer, figure, landmarker)
-    sheet = await server.run(work.compare, asked)
+    request = await clone_request(server, uploads, asked, figure)
+    sheet = await server.run(work.compare, request)
     return Response(sheet, media_type="image/png")
-
-
-def neutral_frame(text: str) -> int | str | None:
-    """``first`` (None: the first frame with a face), ``closed``, or a frame number."""
-    if text in ("first", "closed"):
-        return None if text == "first" else text
-    if not text.isdigit():
-        raise ExprCloneError("neutral_frame", f"must be first, closed or a frame number, got {text!r}")
-    return int(text)
 
 
 @router.post("/api/video", status_code=202, responses=errors(400, 413, 422, 503))
@@ -300,26 +240,17 @@ async def video(
     server: Server,
     portrait: Photo,
     driving_video: Annotated[UploadFile, File(description="a video of the source person (any format FFmpeg reads)")],
-    transfer: Transfer,
-    method: Method = "e+md",
-    lambda_text: Lambda = "auto",
-    mouth: Mouth = True,
-    size: Annotated[int, Form(ge=16, le=MAX_VIDEO_SIZE, description="the portrait's longest side in the output, pixels")] = 512,
-    neutral: Annotated[
-        str, Form(alias="neutral_frame", description="first (frame with a face), closed (most closed mouth) or N")
-    ] = "closed",
-    side_by_side: Annotated[bool, Form(description="the driving video beside the result")] = False,
-    head_motion: Annotated[bool, Form(description="carry the source's head motion over")] = False,
-    landmarker: LandmarkerField = DEFAULT,
+    asked: VideoOptions,
+    driving: DrivingForm,
+    framing: FramingForm,
 ) -> dict[str, str]:
     """Start a video job: ``202 {"id", "status", "result"}``; follow it at ``/api/jobs/{id}``.
 
-    ``global_warp``, ``image_warp``, ``strength``, ``only``, ``retarget`` and ``landmarker`` are the options of
-    ``exprclone video``."""
-    lambda_k, chosen = parse_lambda(lambda_text), check_landmarker(landmarker)
-    driving = work.Driving(lookup((method,))[0].name, lambda_k, neutral_frame(neutral), mouth, head_motion, chosen)
+    The options are those of ``exprclone video``, by the same names (``lambda`` for ``--lambda``)."""
+    options = asked.options
     photo = await read_upload(portrait, "portrait")
-    await server.run(work.landmarks, photo, server.settings.max_pixels, chosen)  # a portrait without a face fails now, not in the job
+    # a portrait without a face fails now, not in the job
+    await server.run(work.landmarks, photo, server.settings.max_pixels, options.landmarker)
     job = server.jobs.create()
     try:
         with job.video.open("wb") as out:
@@ -328,7 +259,7 @@ async def video(
             info = await asyncio.to_thread(probe, job.video)  # a file that is not a video fails now, not in the job
         check_size(info.width, info.height, "driving_video", server.settings.max_pixels)  # its frames are bounded as photos are
         files = (str(job.video), str(job.result), str(job.progress_file))
-        task = work.VideoRequest(photo, *files, driving, transfer.options, size, side_by_side, server.settings.max_pixels)
+        task = work.VideoRequest(photo, *files, options, driving.options, framing.options, server.settings.max_pixels)
         server.jobs.start(job, server.video_pool.submit(work.video, task))
     except BaseException:
         server.jobs.discard(job)

@@ -9,93 +9,32 @@ photo or video without a face, 503 (with ``Retry-After``) when the work queue is
 
 from __future__ import annotations
 
-import asyncio
 import contextlib
 import logging
-import multiprocessing
-import shutil
-import tempfile
 import warnings
-from collections.abc import AsyncIterator, Callable
-from concurrent.futures import ProcessPoolExecutor
-from concurrent.futures.process import BrokenProcessPool
+from collections.abc import AsyncIterator
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Any, TypeVar
 
-from fastapi import Depends, FastAPI, Request
+from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
 from PIL.Image import DecompressionBombWarning
 from starlette.exceptions import HTTPException
-from starlette.requests import HTTPConnection
 
 from .. import __version__
 from ..errors import ExprCloneError, NoFaceError
-from . import work
-from .jobs import Jobs, NoSuchJob
-from .limits import Busy, Gate, UploadLimit
+from .api import router
+from .jobs import NoSuchJob
+from .limits import Busy, UploadLimit
+from .live import router as live_router
 from .openapi import document
 from .settings import Settings
+from .state import Work
 
 log = logging.getLogger("exprclone.server")
-T = TypeVar("T")
-
-
-class Work:
-    """The server's state: its temporary folder, the worker pools, the work queue's gate and the video jobs."""
-
-    def __init__(self, settings: Settings) -> None:
-        self.settings = settings
-        self.folder = Path(tempfile.mkdtemp(prefix="exprclone-serve-"))
-        self.gate = Gate(settings.workers + settings.queue)
-        self.jobs = Jobs(self.folder, settings.max_jobs, settings.job_ttl)
-        self.pool = self._pool(settings.workers)
-        self.video_pool = self._pool(settings.video_workers)
-        self.live_sessions = 0
-        from .rendering import Hosts  # here: it imports the live routes, which import this module
-
-        self.live_hosts = Hosts(settings.max_live)
-
-    @staticmethod
-    def _pool(workers: int) -> ProcessPoolExecutor:
-        # spawned, not forked: the web process runs threads (the event loop, the pools' own)
-        return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=work.load_models)
-
-    def warm_up(self) -> None:
-        """Start every clone worker now (each loads the models as it starts)."""
-        for future in [self.pool.submit(work.ready) for _ in range(self.settings.workers)]:
-            future.result()
-
-    async def run(self, function: Callable[..., T], *args: Any) -> T:
-        """``function(*args)`` in a clone worker, past the gate; a broken pool is replaced and the request refused (503)."""
-        with self.gate:
-            try:
-                return await asyncio.get_running_loop().run_in_executor(self.pool, function, *args)
-            except BrokenProcessPool:
-                log.error("a worker process died; starting new ones")
-                self.pool.shutdown(wait=False, cancel_futures=True)
-                self.pool = self._pool(self.settings.workers)
-                raise Busy("a worker stopped unexpectedly; try again") from None
-
-    def close(self) -> None:
-        """Stop the workers (jobs not yet started are cancelled) and remove the temporary folder."""
-        for pool in (self.pool, self.video_pool):
-            pool.shutdown(wait=True, cancel_futures=True)
-        self.live_hosts.close()
-        shutil.rmtree(self.folder, ignore_errors=True)
-
-
-def the_server(connection: HTTPConnection) -> Work:
-    """The server's state (:class:`Work`, made when it starts), for a route or a WebSocket: a FastAPI dependency."""
-    work: Work = connection.app.state.work
-    return work
-
-
-#: a route's parameter for the server's state (:func:`the_server`).
-Server = Annotated[Work, Depends(the_server)]
 
 
 def _error(status: int, message: str, headers: dict[str, str] | None = None) -> JSONResponse:
@@ -150,9 +89,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             yield
         finally:
             app.state.work.close()
-
-    from .api import router
-    from .live import router as live_router
 
     description = (__doc__ or "").split("\n\n")[1]
     app = FastAPI(title="exprclone", version=__version__, lifespan=lifespan, description=description, docs_url=None, redoc_url=None)

@@ -41,169 +41,17 @@ from __future__ import annotations
 import asyncio
 import time
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, NamedTuple
+from typing import Any
 
-import cv2
-import numpy as np
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 
-from .. import drive, tracking
-from ..checks import check_choices, check_lambda, options_from, parse_lambda
-from ..cloner import Cloner
 from ..errors import ExprCloneError
-from ..io.frames import resize_portrait
-from ..landmarkers import DEFAULT, check_landmarker, for_thread
-from ..layout import DLIB68
-from ..methods import lookup
-from ..mouth import opening
-from ..options import Options
-from .app import Server
+from ..options import Framing, Options, from_json
 from .protocol import POLICY, SEQUENCE, START_SECONDS, Misuse, Slots, check_frame, parse_message, receive, refuse
+from .session import SIZES, Session
+from .state import Server
 
 router = APIRouter()
-
-#: the neutral face is the frame whose mouth is most closed over this many seconds from the first face.
-NEUTRAL_SECONDS = 1.0
-#: lambda_k "auto" is chosen once, by the DB metric, on the first frame whose expression is this strong (inter-ocular distances).
-LAMBDA_STRENGTH = 0.03
-#: quality of the JPEG frames sent back.
-JPEG_QUALITY = 85
-#: output sizes a session may ask for (the portrait's longest side).
-SIZES = (256, 512)
-#: the options of :class:`exprclone.options.Options` a start or options message may carry (GI from a file aside).
-TRANSFER = ("global_warp", "image_warp", "strength", "only", "retarget")
-
-
-def decode_jpeg(content: bytes) -> np.ndarray:
-    """A camera frame (JPEG or PNG) as ``(H, W, 3)`` uint8 RGB, or ExprCloneError about ``frame``."""
-    image = cv2.imdecode(np.frombuffer(content, np.uint8), cv2.IMREAD_COLOR)
-    if image is None:
-        raise ExprCloneError("frame", "not a JPEG or PNG image")
-    return cv2.cvtColor(image, cv2.COLOR_BGR2RGB)
-
-
-def encode_jpeg(image: np.ndarray) -> bytes:
-    return cv2.imencode(".jpg", cv2.cvtColor(image, cv2.COLOR_RGB2BGR), [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])[1].tobytes()
-
-
-class Window(NamedTuple):
-    """The neutral face's capture so far: when it started, and the frame with the most closed mouth."""
-
-    start: float
-    opening: float
-    frame: np.ndarray
-    points: np.ndarray
-
-
-class Session:
-    """One camera following one portrait: the state of one connection, used from one thread.
-
-    Until lambda_k "auto" is chosen, once, on the first clearly expressive frame
-    (:data:`LAMBDA_STRENGTH`), the elastic model runs with ``lambda_k = 0``, which gives
-    GI (Eq. 6 with the springs to the local positions slack): a neutral or faint
-    expression looks the same either way, and the DB metric is not run on every frame.
-
-    Parameters
-    ----------
-    portrait : ndarray of shape (H, W, 3), uint8 RGB
-    method, mouth, lambda_k
-        As for :class:`exprclone.drive.Driver`; ``lambda_k="auto"`` is chosen once (:data:`LAMBDA_STRENGTH`).
-    size : int
-        The output's longest side.
-    transfer : Options, optional
-        The :class:`~exprclone.options.Options` (:data:`TRANSFER`) of the prepared faces; the defaults if None.
-    landmarker : str
-        Which landmarker finds and tracks the faces (:data:`exprclone.landmarkers.LANDMARKERS`).
-    """
-
-    def __init__(
-        self,
-        portrait: np.ndarray,
-        method: str,
-        mouth: bool,
-        lambda_k: float | str,
-        size: int,
-        transfer: Options | None = None,
-        landmarker: str = DEFAULT,
-    ) -> None:
-        self.method, self.mouth, self.lambda_k = lookup((method,))[0].name, mouth, check_lambda(lambda_k)
-        self.detector = for_thread(landmarker)
-        self.portrait, _ = resize_portrait(portrait, None, size)
-        self.transfer = self._checked(transfer or Options())
-        self.portrait_points = self.detector.detect(self.portrait, "portrait")
-        self.tracker, self.filter = tracking.Tracker(self.detector), tracking.OneEuro()
-        self.last = self.portrait
-        #: the neutral face's capture (:meth:`recapture`), and the faces prepared once it is captured.
-        self.driver: drive.Driver | None = None
-        self.chosen: float | str = self.lambda_k
-        self.window: Window | None = None
-        self.now = False
-
-    def recapture(self, now: bool = False) -> None:
-        """Capture the neutral face again: from the next frame with a face (``now``), or the most closed mouth of the next second."""
-        self.driver, self.chosen, self.window, self.now = None, self.lambda_k, None, now
-
-    def _checked(self, transfer: Options) -> Options:
-        """The transfer options, checked as a :class:`~exprclone.cloner.Cloner` checks them (ExprCloneError)."""
-        return check_choices(transfer, tuple(DLIB68.regions))
-
-    def options(self, method: str, mouth: bool, transfer: Options | None = None) -> None:
-        """Another method or mouth setting, for the same faces; other transfer options prepare the same faces again."""
-        self.method, self.mouth = lookup((method,))[0].name, mouth
-        checked = None if transfer is None else self._checked(transfer)
-        changed = checked is not None and any(getattr(checked, key) != getattr(self.transfer, key) for key in TRANSFER)
-        if checked is not None:
-            self.transfer = checked
-        if self.driver is not None and self.window is not None:
-            cloner = self._cloner(self.window) if changed else self.driver.cloner
-            self.driver = drive.Driver(cloner, self.method, self._lambda_for_driver(), mouth=self.mouth)
-
-    def _cloner(self, window: Window) -> Cloner:
-        """The camera's neutral face (the window's frame) and the portrait, prepared with the transfer options."""
-        return Cloner(window.frame, window.points, self.portrait, self.portrait_points, options=self.transfer)
-
-    def _lambda_for_driver(self) -> float:
-        """lambda_k for the driver: 0 (GI) until "auto" is chosen (see the class's notes), else the number asked or chosen."""
-        return 0.0 if self.chosen == "auto" else float(self.chosen)
-
-    def close(self) -> None:
-        """Release what the session holds: nothing here (a :class:`~exprclone.server.rendering.RemoteSession` gives its process back)."""
-
-    def status(self, face: bool) -> dict[str, Any]:
-        return {"type": "status", "face": face, "neutral": self.driver is not None, "lambda_k": self.chosen}
-
-    def process(self, content: bytes, t: float) -> tuple[bytes, dict[str, Any]]:
-        """The output frame, as JPEG, for a camera frame (JPEG) arriving at ``t`` seconds; and the session's status."""
-        frame = decode_jpeg(content)
-        points = self.tracker.update(frame)
-        if points is None:
-            self.filter.reset()
-            return encode_jpeg(self.last), self.status(False)
-        points = self.filter(points, t)
-        if self.driver is None:
-            self._capture(frame, points, t)
-        else:
-            driver = self._choose_lambda(self.driver, frame, points)
-            self.last = driver.render(frame, points).image
-        return encode_jpeg(self.last), self.status(True)
-
-    def _capture(self, frame: np.ndarray, points: np.ndarray, t: float) -> None:
-        """Keep the frame with the most closed mouth; at the end of the window (or at once, if asked) it is the neutral face."""
-        closed = opening(points, DLIB68)
-        if self.window is None or closed < self.window.opening:
-            self.window = Window(self.window.start if self.window else t, closed, frame, points)
-        if self.now or t - self.window.start >= NEUTRAL_SECONDS:
-            self.driver = drive.Driver(self._cloner(self.window), self.method, self._lambda_for_driver(), mouth=self.mouth)
-
-    def _choose_lambda(self, driver: drive.Driver, frame: np.ndarray, points: np.ndarray) -> drive.Driver:
-        """lambda_k "auto": chosen once by the DB metric, on the first clearly expressive frame; the driver to use."""
-        if self.chosen != "auto" or not lookup((self.method,))[0].uses_lambda:
-            return driver
-        cloner = driver.cloner
-        if drive.expression_strength(cloner.s_neu, points[None], cloner.layout)[0] >= LAMBDA_STRENGTH:
-            self.chosen = drive.choose_lambda(cloner, [frame], [points])
-            self.driver = driver = drive.Driver(cloner, self.method, self.chosen, mouth=self.mouth)
-        return driver
 
 
 async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, slots: Slots) -> Session:
@@ -213,27 +61,15 @@ async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, slots: Slot
     start = parse_message(await receive(websocket, "text", deadline))
     if start["type"] != "start":
         raise Misuse("live", 'the first message must be {"type": "start", ...}')
-    size = start.get("size", 512)
+    options, size = Options.from_json(start), from_json(Framing, start).size
     if size not in SIZES:
         raise ExprCloneError("size", f"must be one of {', '.join(map(str, SIZES))}, got {size!r}")
-    landmarker = check_landmarker(start.get("landmarker", DEFAULT))
     slots.take()
     portrait = await receive(websocket, "bytes", deadline)
-    options = (start.get("method", "e+md"), start.get("mouth", True), parse_lambda(str(start.get("lambda", "auto"))), size)
     loop = asyncio.get_running_loop()
     hosts, max_pixels = slots.work.live_hosts, slots.work.settings.max_pixels
-    session: Session = await loop.run_in_executor(
-        executor, lambda: hosts.session(portrait, max_pixels, *options, transfer_of(start), landmarker)
-    )
+    session: Session = await loop.run_in_executor(executor, lambda: hosts.session(portrait, max_pixels, options, size))
     return session
-
-
-def transfer_of(message: dict[str, Any]) -> Options:
-    """The transfer options a message gives (:data:`TRANSFER`; a list of regions as a tuple), the others the defaults."""
-    given = {key: message[key] for key in TRANSFER if message.get(key) is not None}
-    if isinstance(given.get("only"), list):
-        given["only"] = tuple(given["only"])
-    return options_from(None, given)
 
 
 @router.websocket("/api/live")
@@ -312,7 +148,7 @@ async def _control(session: Session, executor: ThreadPoolExecutor, message: dict
     if message["type"] == "neutral":
         await loop.run_in_executor(executor, lambda: session.recapture(now=True))
     elif message["type"] == "options":
-        transfer = transfer_of(message) if any(key in message for key in TRANSFER) else None
-        await loop.run_in_executor(executor, session.options, message.get("method", session.method), message.get("mouth", True), transfer)
+        options = Options.from_json(message, session.options)
+        await loop.run_in_executor(executor, session.change, options)
     else:
         raise Misuse("live", f"a {message['type']} message comes only first")

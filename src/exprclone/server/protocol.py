@@ -17,7 +17,8 @@ from typing import Any, Literal, overload
 from fastapi import WebSocket, WebSocketDisconnect
 
 from ..errors import ExprCloneError
-from .app import Work
+from ..options import Framing, Options, expected, json_kinds
+from .state import Work
 
 #: the sequence number before each frame.
 SEQUENCE = struct.Struct(">I")
@@ -27,21 +28,8 @@ START_SECONDS = 10.0
 TYPES = ("start", "neutral", "options")
 #: the longest text message, in characters.
 MAX_TEXT = 4096
-#: the JSON type(s) of each field a start or options message may carry.
-FIELDS = {
-    "type": (str,),
-    "method": (str,),
-    "mouth": (bool,),
-    "size": (int,),
-    "lambda": (str, int, float),
-    "global_warp": (str,),
-    "image_warp": (str,),
-    "strength": (int, float),
-    "only": (str, list),
-    "retarget": (bool,),
-    "landmarker": (str,),
-}
-KIND_NAMES = {str: "a string", bool: "true or false", int: "an integer", float: "a number", list: "a list"}
+#: the JSON type(s) of each field a start or options message may carry: the options offered to JSON messages.
+FIELDS = {"type": (str,), **json_kinds(Options), **json_kinds(Framing)}
 #: close codes (RFC 6455, 7.4.1): a message of the wrong kind (text for binary, or the reverse); any other breach of the
 #: protocol (a bad message, no start in time); every session slot taken.
 UNSUPPORTED, POLICY, TRY_LATER = 1003, 1008, 1013
@@ -64,7 +52,7 @@ def check_message(message: dict[str, Any]) -> dict[str, Any]:
         if value is None:
             continue
         if isinstance(value, bool) is not (kinds == (bool,)) or not isinstance(value, kinds):
-            raise Misuse(key, f"must be {' or '.join(KIND_NAMES[k] for k in kinds)}, got {json.dumps(value)[:40]}")
+            raise Misuse(key, f"must be {expected(kinds)}, got {json.dumps(value)[:40]}")
         if key == "only" and isinstance(value, list) and not all(isinstance(name, str) for name in value):
             raise Misuse(key, "must be a list of region names")
     return message

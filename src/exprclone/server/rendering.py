@@ -1,6 +1,6 @@
 """Where live sessions render: each in a process of its own, off the web process's GIL.
 
-A live session (:class:`exprclone.server.live.Session`) renders every camera frame in
+A live session (:class:`exprclone.server.session.Session`) renders every camera frame in
 Python and numpy; sessions run as threads of the web process would share one
 interpreter lock, and two at once would each get about half the frames they get alone.
 So each session's state and work live in a host process (:class:`Hosts`): the web
@@ -30,9 +30,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import ExprCloneError
-from ..methods import lookup
 from ..options import Options
-from .live import Session
+from .session import Session
 
 
 def serve(connection: Connection) -> None:
@@ -103,17 +102,17 @@ class Hosts:
         self._idle: list[Host] = [Host() for _ in range(size)]  # started now: a process takes seconds to load the models
         self._lock = threading.Lock()
 
-    def session(self, portrait: bytes, max_pixels: int | None, *arguments: Any) -> RemoteSession:
-        """A session started in an idle host (a new one if none is): ``arguments`` are :class:`Session`'s but the portrait."""
+    def session(self, portrait: bytes, max_pixels: int | None, options: Options, size: int) -> RemoteSession:
+        """A session started in an idle host (a new one if none is): ``options`` and ``size`` are :class:`Session`'s."""
         with self._lock:
             host = self._idle.pop() if self._idle else None
         host = host or Host()
         try:
-            shape = host.call("start", portrait, max_pixels, arguments)
+            shape = host.call("start", portrait, max_pixels, (options, size))
         except BaseException:
             self.give_back(host)
             raise
-        return RemoteSession(host, shape, arguments[0], self.give_back)
+        return RemoteSession(host, shape, options, self.give_back)
 
     def give_back(self, host: Host) -> None:
         """Keep a host whose session ended for the next one, if it is still alive and fewer than ``size`` are idle."""
@@ -134,13 +133,13 @@ class Hosts:
 class RemoteSession(Session):
     """A :class:`Session` that lives in a host process: the same methods, each run there.
 
-    ``portrait`` has the portrait's shape only (its pixels stay in the host); ``method``
-    follows :meth:`options`. :meth:`close` ends the session and gives the host back (also
+    ``portrait`` has the portrait's shape only (its pixels stay in the host); ``options``
+    follow :meth:`change`. :meth:`close` ends the session and gives the host back (also
     done when the stand-in is dropped without it).
     """
 
-    def __init__(self, host: Host, shape: tuple[int, ...], method: str, give_back: Callable[[Host], None]) -> None:
-        self._host, self.method = host, method
+    def __init__(self, host: Host, shape: tuple[int, ...], options: Options, give_back: Callable[[Host], None]) -> None:
+        self._host, self.options = host, options
         self.portrait = np.broadcast_to(np.zeros((1, 1, 3), np.uint8), shape)
         self._closer = weakref.finalize(self, RemoteSession._end, host, give_back)
 
@@ -164,6 +163,6 @@ class RemoteSession(Session):
     def recapture(self, now: bool = False) -> None:
         self._host.call("recapture", now)
 
-    def options(self, method: str, mouth: bool, transfer: Options | None = None) -> None:
-        self._host.call("options", method, mouth, transfer)
-        self.method = lookup((method,))[0].name
+    def change(self, options: Options) -> None:
+        self._host.call("change", options)
+        self.options = options

@@ -21,8 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import naming
-from ..landmarkers import DEFAULT
-from ..options import Options
+from ..options import Driving, Framing, Options
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 
 if TYPE_CHECKING:
@@ -47,68 +46,45 @@ class Upload:
 
 
 @dataclass(frozen=True)
-class Asked:
-    """The options a form asks for: :class:`~exprclone.options.Options` (checked, but the given GI, which comes as a
-    file), and whether it named a global warp (Fig. 19 shows the RBF transfer's unless it did)."""
-
-    options: Options = Options()
-    global_warp: bool = False
-
-
-@dataclass(frozen=True)
 class CloneRequest:
     """What ``POST /api/clone`` and ``/api/compare`` ask: three photos (or with a built-in ``expression``, the
     target's alone: the others None), optional landmark files, the options.
 
-    ``transfer`` holds the options but the given landmarks, which come as a file
-    (``global_landmarks``); ``figure`` is the compare sheet's; ``landmarker`` places the
-    landmarks of photos without a landmark file.
+    ``options`` are checked but for the given GI, which comes as a file (``global_landmarks``);
+    ``figure`` is the compare sheet's, ``given`` the options the form gave (Fig. 19 shows the
+    RBF transfer unless a global warp was given).
     """
 
     photos: tuple[Upload | None, Upload | None, Upload]
     landmarks: tuple[Upload | None, Upload | None, Upload | None]
-    method: str = "e+md"
-    lambda_k: float | str = "auto"
-    mouth: bool = True
-    max_pixels: int | None = None
-    transfer: Asked = Asked()
-    global_landmarks: Upload | None = None
-    figure: str = "11"
-    landmarker: str = DEFAULT
-    expression: str | None = None
-
-
-@dataclass(frozen=True)
-class Driving:
-    """How a video job drives the portrait: the arguments of :func:`exprclone.drive.prepare` of that name."""
-
-    method: str = "e+md"
-    lambda_k: float | str = "auto"
-    neutral_frame: int | str | None = "closed"
-    mouth: bool = True
-    head_motion: bool = False
-    landmarker: str = DEFAULT
+    options: Options
+    max_pixels: int | None
+    global_landmarks: Upload | None
+    figure: str
+    given: frozenset[str]
+    expression: str | None
 
 
 @dataclass(frozen=True)
 class VideoRequest:
     """What ``POST /api/video`` asks: a portrait, a driving video (saved in the job's folder), where to write, how to
-    drive the portrait (:class:`Driving`) and clone each frame (:class:`~exprclone.options.Options`), the output's form."""
+    clone each frame (:class:`~exprclone.options.Options`), drive the portrait (:class:`~exprclone.options.Driving`) and
+    frame the output (:class:`~exprclone.options.Framing`)."""
 
     portrait: Upload
     video: str
     output: str
     progress: str
-    driving: Driving = Driving()
-    options: Options = Options()
-    size: int | None = 512
-    side_by_side: bool = False
-    max_pixels: int | None = None
+    options: Options
+    driving: Driving
+    framing: Framing
+    max_pixels: int | None
 
 
 def load_models() -> None:
     """A worker's initializer: load the default landmarker and the eigenface basis now, not on its first request."""
-    from ..models import default_detector, default_eigenfaces
+    from ..geometry.eigenface import default_eigenfaces
+    from ..landmarks.backends import default_detector
 
     default_detector()._load()
     default_eigenfaces()
@@ -128,7 +104,7 @@ def _image(upload: Upload, max_pixels: int | None) -> np.ndarray:
 
 def _detected(upload: Upload, image: np.ndarray, landmarker: str) -> np.ndarray:
     """The landmarks of an uploaded photo placed by ``landmarker``: remembered, or detected (and remembered)."""
-    from ..models import landmarker as shared
+    from ..landmarks.backends import shared
 
     key = (hashlib.sha256(upload.content).hexdigest(), landmarker)
     if key in _seen:
@@ -140,7 +116,7 @@ def _detected(upload: Upload, image: np.ndarray, landmarker: str) -> np.ndarray:
     return _seen[key]
 
 
-def landmarks(upload: Upload, max_pixels: int | None = None, landmarker: str = DEFAULT) -> dict[str, Any]:
+def landmarks(upload: Upload, max_pixels: int | None, landmarker: str) -> dict[str, Any]:
     """``POST /api/landmarks``: the landmarks of a photo placed by ``landmarker``, and its size, ``{"width", "height", "landmarks"}``."""
     image = _image(upload, max_pixels)
     points = _detected(upload, image, landmarker)
@@ -159,7 +135,7 @@ def _inputs(request: CloneRequest) -> tuple[tuple[np.ndarray, np.ndarray, np.nda
     (the expression's, from the landmark file given, else placed by the request's landmarker), and the clone's options
     (with the given GI read from its file)."""
     sent = [(photo, given) for photo, given in zip(request.photos, request.landmarks) if photo is not None]
-    faces = [_face(photo, given, request.max_pixels, request.landmarker) for photo, given in sent]
+    faces = [_face(photo, given, request.max_pixels, str(request.options.landmarker)) for photo, given in sent]
     if request.expression is not None:
         from ..expressions import load
 
@@ -167,7 +143,7 @@ def _inputs(request: CloneRequest) -> tuple[tuple[np.ndarray, np.ndarray, np.nda
         faces = [(chosen.neutral.image, chosen.neutral.points), (chosen.expression.image, chosen.expression.points), *faces]
     (sn, sn_points), (se, se_points), (tn, tn_points) = faces
     images, points = (sn, se, tn), (sn_points, se_points, tn_points)
-    options = request.transfer.options
+    options = request.options
     if request.global_landmarks is not None:
         options = replace(options, global_landmarks=_landmark_file(request.global_landmarks, images[2].shape))
     return images, (points[0], points[1], points[2]), options
@@ -192,12 +168,12 @@ def clone(request: CloneRequest, extension: str = ".png") -> tuple[bytes, dict[s
     (:func:`exprclone.io.record.result_record`)."""
     from ..io.images import encode_image
     from ..io.record import result_record
-    from ..pipeline import clone as clone_photos
+    from ..pipeline.clone import clone as clone_photos
 
     images, points, options = _inputs(request)
-    result = clone_photos(*images, request.method, request.lambda_k, points, mouth=request.mouth, options=options)
+    result = clone_photos(*images, landmarks=points, options=options)
     sent = [given for photo, given in zip(request.photos, request.landmarks) if photo is not None]
-    placed = request.landmarker if any(given is None for given in sent) else None
+    placed = str(options.landmarker) if any(given is None for given in sent) else None
     record = result_record(replace(result, landmarker=placed), inputs_of(request))
     return encode_image(result.image, extension), record
 
@@ -206,11 +182,11 @@ def compare(request: CloneRequest) -> bytes:
     """``POST /api/compare``: the sheet of Figs. 11-13, or of Figs. 19-21, as PNG (as ``exprclone compare --figure`` draws them)."""
     from ..evaluation.figures import draw, figure_request
     from ..io.images import encode_image
-    from ..pipeline import clone_methods
+    from ..pipeline.clone import clone_methods
 
     images, points, options = _inputs(request)
-    methods, options = figure_request(request.figure, options, request.transfer.global_warp)
-    results = clone_methods(*images, methods, request.lambda_k, points, mouth=request.mouth, options=options)
+    methods, options = figure_request(request.figure, options, "global_warp" in request.given)
+    results = clone_methods(*images, methods, landmarks=points, options=options)
     return encode_image(draw(request.figure, results, images), ".png")
 
 
@@ -223,26 +199,14 @@ def video(request: VideoRequest) -> dict[str, Any]:
         ``frames`` written, the ``lambda_k`` used, the ``neutral_frame`` and the ``frames_without_face``.
     """
     from .. import drive
+    from ..drive.framing import resize_portrait
     from ..io import video as video_io
-    from ..io.frames import resize_portrait
 
-    d = request.driving
     with naming({request.video: "driving_video", request.output: "result"}):
-        portrait, _ = resize_portrait(_image(request.portrait, request.max_pixels), None, request.size)
+        portrait, _ = resize_portrait(_image(request.portrait, request.max_pixels), None, request.framing.size)
         fps = video_io.probe(request.video).fps
-        recording = drive.prepare(
-            portrait,
-            None,
-            lambda: video_io.read_frames(request.video),
-            float(fps),
-            neutral_frame=d.neutral_frame,
-            method=d.method,
-            lambda_k=d.lambda_k,
-            head_motion=d.head_motion,
-            mouth=d.mouth,
-            landmarker=d.landmarker,
-            options=request.options,
-        )
+        opened = lambda: video_io.read_frames(request.video)  # noqa: E731
+        recording = drive.prepare(portrait, None, opened, float(fps), options=request.options, driving=request.driving)
         frames = _reporting(recording, video_io.read_frames(request.video), request)
         written = video_io.write_video(request.output, frames, fps, audio_from=request.video)
     lam = recording.driver.lambda_k
@@ -256,7 +220,7 @@ def video(request: VideoRequest) -> dict[str, Any]:
 
 def _reporting(recording: Recording, frames: Iterator[np.ndarray], request: VideoRequest) -> Iterator[np.ndarray]:
     """The rendered frames, the progress file updated every :data:`PROGRESS_EVERY` of them."""
-    from ..io.frames import side_by_side
+    from ..drive.framing import side_by_side
     from ..io.images import atomic_write
 
     total = len(recording.points)
@@ -264,4 +228,4 @@ def _reporting(recording: Recording, frames: Iterator[np.ndarray], request: Vide
         if done % PROGRESS_EVERY == 0 or done == total:
             report = json.dumps({"done": done, "total": total}).encode()
             atomic_write(request.progress, lambda out: out.write(report))
-        yield side_by_side(f.driving, f.image) if request.side_by_side else f.image
+        yield side_by_side(f.driving, f.image) if request.framing.side_by_side else f.image

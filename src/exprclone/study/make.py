@@ -18,7 +18,6 @@ study is replaced only when asked (``overwrite``), a folder that is not a study 
 
 from __future__ import annotations
 
-import dataclasses
 import datetime
 import os
 import secrets
@@ -30,7 +29,6 @@ from typing import Any
 from .. import __version__
 from ..batch import job, work
 from ..batch.manifest import Row, photos_of, read_records
-from ..checks import parse_lambda
 from ..errors import ExprCloneError
 from ..io.progress import Progress, Quiet
 from ..methods import lookup
@@ -44,23 +42,27 @@ MIN_SIZE = 128
 
 @dataclass(frozen=True)
 class Triple:
-    """One set as the manifest gives it: its name, its three photos (in :data:`exprclone.roles.ROLES`' order), its own lambda_k if any."""
+    """One set as the manifest gives it: its name, its three photos (in :data:`exprclone.roles.ROLES`' order), the
+    texts of its own options (its ``lambda`` column, when not empty)."""
 
     name: str
     photos: tuple[str, str, str]
-    lambda_k: str | None = None
+    cells: tuple[tuple[str, str], ...] = ()
 
 
 def read_sets(path: str) -> list[Triple]:
     """The sets of a study's manifest (see the module's notes), or ExprCloneError about ``path``."""
     records = read_records(path, ROLES)
-    sets = [Triple(r.get("set") or str(k), photos_of(r, path), r.get("lambda") or None) for k, r in enumerate(records, 1)]
+    sets = [
+        Triple(r.get("set") or str(k), photos_of(r, path), (("lambda", r["lambda"]),) if r.get("lambda") else ())
+        for k, r in enumerate(records, 1)
+    ]
     if not sets:
         raise ExprCloneError(path, "no rows: a study needs at least one set")
     first: dict[str, int] = {}
     for k, triple in enumerate(sets, 1):
         try:
-            parse_lambda(triple.lambda_k or "auto")
+            Options.from_text(dict(triple.cells))
         except ExprCloneError as e:
             raise ExprCloneError(path, f"row {k}: {e}") from None
         if triple.name in first:
@@ -89,10 +91,10 @@ def make(
     manifest: str,
     folder: str | Path,
     methods: tuple[str, ...],
-    options: work.JobOptions,
+    options: Options,
     backend: job.Local | job.Dask,
     *,
-    size: int | None = None,
+    max_size: int | None = None,
     overwrite: bool = False,
     progress: Progress = Quiet,
 ) -> None:
@@ -106,11 +108,11 @@ def make(
         Where the study goes.
     methods : tuple of str
         Names of :data:`exprclone.methods.METHODS`.
-    options : exprclone.batch.work.JobOptions
+    options : Options
         The clone options (its ``method`` unused: every set is cloned by each of ``methods``).
     backend : exprclone.batch.job.Local or exprclone.batch.job.Dask
         Where the clones run.
-    size : int, optional
+    max_size : int, optional
         The photos' longest side at most, in pixels (not enlarged); as they are by default.
     overwrite : bool
         Replace a study already at ``folder``.
@@ -120,22 +122,22 @@ def make(
     methods = tuple(m.name for m in lookup(methods))
     if not methods:
         raise ExprCloneError("methods", "a study needs one method at least")
-    if size is not None and size < MIN_SIZE:
-        raise ExprCloneError("--size", f"expected at least {MIN_SIZE} pixels, got {size}")
+    if max_size is not None and max_size < MIN_SIZE:
+        raise ExprCloneError("--max-size", f"expected at least {MIN_SIZE} pixels, got {max_size}")
     sets, folder = read_sets(manifest), Path(folder).resolve()
     check_destination(folder, overwrite)
     built = folder.with_name(f".{folder.name}.partial-{secrets.token_hex(4)}")
     try:
         (built / IMAGES).mkdir(parents=True)  # with the umask's permissions (a temporary folder's would be 0700)
         taken: set[str] = set()
-        copies = copy_photos(manifest, sets, built, size, taken)
+        copies = copy_photos(manifest, sets, built, max_size, taken)
         rows, items = plan(sets, methods, copies, built, taken)
         outcomes: dict[int, work.Outcome] = {}
         job.run(rows, options, backend, outcomes, progress=progress)
         check_outcomes(manifest, sets, rows, outcomes, {str(built / IMAGES / f"{i}{SUFFIX}"): p for p, i in copies.items()})
         public = Study(built, tuple(Set(dict(zip(ROLES, (copies[p] for p in s.photos))), tuple(i)) for s, i in zip(sets, items)))
         write_json(built / STUDY, public.public())
-        write_json(built / KEY, key(manifest, sets, methods, items, options, size))
+        write_json(built / KEY, key(manifest, sets, methods, items, options, max_size))
         install(built, folder)
     except OSError as e:
         raise ExprCloneError(str(folder), f"cannot be written ({e.strerror or e})") from None
@@ -180,7 +182,8 @@ def plan(
         source_neutral, source_expression, target_neutral = (str(built / IMAGES / f"{copies[p]}{SUFFIX}") for p in triple.photos)
         for result, method in ids.items():
             output = str(built / IMAGES / f"{result}{SUFFIX}")
-            rows.append(Row(len(rows) + 1, source_neutral, source_expression, target_neutral, output, method, triple.lambda_k))
+            cells = (("method", method), *triple.cells)
+            rows.append(Row(len(rows) + 1, source_neutral, source_expression, target_neutral, output, cells))
     return rows, items
 
 
@@ -195,21 +198,24 @@ def check_outcomes(
     for copy, original in originals.items():
         error = error.replace(copy, original)
     name = sets[(failed.number - 1) * len(sets) // len(rows)].name
-    raise ExprCloneError(manifest, f"set {name!r}, method {rows[failed.number - 1].method}: {error}")
+    raise ExprCloneError(manifest, f"set {name!r}, method {dict(rows[failed.number - 1].cells)['method']}: {error}")
 
 
 def key(
-    manifest: str, sets: list[Triple], methods: tuple[str, ...], items: list[dict[str, str]], options: work.JobOptions, size: int | None
+    manifest: str, sets: list[Triple], methods: tuple[str, ...], items: list[dict[str, str]], options: Options, max_size: int | None
 ) -> dict[str, Any]:
     """What ``key.json`` holds: which result is which method, where each set came from, how the clones were made."""
     settings = {
         "lambda": options.lambda_k,
         "mouth": options.mouth,
         "landmarker": options.landmarker,
-        "size": size,
-        **changed(options.options),
+        "size": max_size,
+        **changed(options),
     }
-    sets_ = [{"name": s.name, "photos": dict(zip(ROLES, s.photos)), "lambda": s.lambda_k, "items": i} for s, i in zip(sets, items)]
+    sets_ = [
+        {"name": s.name, "photos": dict(zip(ROLES, s.photos)), "lambda": dict(s.cells).get("lambda"), "items": i}
+        for s, i in zip(sets, items)
+    ]
     made = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     return {
         "format": FORMAT,
@@ -223,14 +229,14 @@ def key(
 
 
 def changed(options: Options) -> dict[str, Any]:
-    """The clone options that differ from the defaults (the ones given on the command line), as JSON values.
+    """The options of a study's clones shown apart from its key's own (lambda, mouth, landmarker) that differ from the
+    defaults (the ones given on the command line), as JSON values.
 
     >>> changed(Options()), changed(Options(strength=0.5, retarget=False))
     ({}, {'strength': 0.5, 'retarget': False})
     """
-    default = Options()
-    fields = (f.name for f in dataclasses.fields(Options) if f.name != "global_landmarks")  # a study's GI is never given
-    return {name: getattr(options, name) for name in fields if getattr(options, name) != getattr(default, name)}
+    default, shown = Options(), ("global_warp", "image_warp", "strength", "only", "retarget")
+    return {name: getattr(options, name) for name in shown if getattr(options, name) != getattr(default, name)}
 
 
 def install(built: Path, folder: Path) -> None:

@@ -1,0 +1,270 @@
+"""Expression ratio image (ERI, Liu, Shan and Zhang 2001): the illumination details.
+
+Both source photos are warped to the target's final geometry; the ratio of their
+luminances, ``ERI = Y_expression / Y_neutral``, holds the shading that the expression
+creates (wrinkles, folds, dimples) without the source's skin or identity. It is
+low-pass filtered against noise and misregistration, clamped, and faded to 1 outside a
+feathered face mask and inside the eyes and the mouth opening, whose content (irises,
+teeth) differs between people and is not shading.
+
+One addition to Liu et al.: where the source's *neutral* photo is itself textured
+(hair over the forehead, a beard, stubble, the face's outline against the
+background), the ratio of two slightly misregistered textures is noise, not shading,
+and it is faded out (:func:`texture`); the filter is a normalised
+convolution over the trusted pixels only, so nothing leaks from the excluded ones.
+The same test is made on the expression photo (hair that moved into it). A change of
+light between the source's two photos is divided out as well: the ratio's trend over
+the face, a plane in its logarithm fitted robustly (:func:`light_trend`), is taken to
+be 1, which removes a change of exposure and a light that moved across the face.
+
+Only expression shading: the ratio also counts only where the expression moves the skin
+and all three photos show the same skin (:mod:`exprclone.details.gate`, the gate's weights).
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from ..imaging import raster
+from ..landmarks import align
+from ..landmarks.layout import Layout
+from . import coarse, gate
+
+#: Gaussian filter of the ratio, sigma in inter-ocular distances.
+FILTER_SIGMA = 0.03
+#: the ratio is clamped to this range.
+CLAMP = (0.7, 1.4)
+#: relative local contrast of the neutral photo at which the ratio starts to fade, and is gone.
+TEXTURE_RANGE = (0.04, 0.10)
+#: feathering of the masks, sigma in inter-ocular distances.
+FEATHER = 0.04
+#: the face mask is smooth at the feather's scale: it is drawn this many times smaller and enlarged.
+MASK_SHRINK = 4
+#: the ERI is computed on a grid shrunk as far as FILTER_SIGMA still spans this many of its pixels (about 50 to an
+#: inter-ocular distance: blocks of 5 pixels on a 1350-pixel London photo, 2 at 512).
+FILTER_PIXELS = 1.5
+#: what the shrunk grid adds to the ratio's filter, in squared blocks along each axis: a block's mean (1/12) and the
+#: bilinear enlargement (1/6). The Gaussian on the grid is narrowed by it, so that the whole filter is FILTER_SIGMA's
+#: (:func:`ratio_on_grid`); without it, the ERI at 1350 pixels (blocks of 5) came out 5% more blurred.
+GRID_VARIANCE = 1 / 12 + 1 / 6
+#: rows of the image per strip when the details are applied (:func:`apply_details`): its temporaries stay in the CPU cache.
+STRIP = 64
+
+
+def luminance(image: np.ndarray) -> np.ndarray:
+    """BT.601 luma of a uint8 RGB image (:func:`raster.luma`), float32 in [0, 1]; a 2-D image is taken to be luma already."""
+    return raster.luma(image).astype(np.float32) / 255.0
+
+
+def ratio_mask(
+    shape: tuple[int, int], landmarks: np.ndarray, forehead: np.ndarray, layout: Layout, shrink: int = MASK_SHRINK
+) -> np.ndarray:
+    """Feathered mask in [0, 1]: 1 on the face, 0 off it and in the eyes and mouth opening.
+
+    Parameters
+    ----------
+    shape : (H, W)
+    landmarks : ndarray of shape (N, 2)
+        The face's landmarks in this frame.
+    forehead : ndarray of shape (F, 2)
+        Forehead control points (the face hull reaches up to them).
+    layout : Layout
+    shrink : int
+        How many times smaller it is drawn (:data:`MASK_SHRINK`; less on a grid already shrunk).
+    """
+    small = (max(1, shape[0] // shrink), max(1, shape[1] // shrink))
+    scale = np.array([small[1] / shape[1], small[0] / shape[0]])
+    iod = align.interocular(landmarks, layout) * scale.mean()
+    pts, forehead = landmarks * scale, forehead * scale
+    mask: np.ndarray = np.zeros(small, np.float32)
+    hull = cv2.convexHull(np.concatenate([pts[list(layout.jaw)], forehead]).astype(np.float32))
+    cv2.fillConvexPoly(mask, np.round(hull).astype(np.int32), 1.0)
+    # shrink by the feather width so the fade ends inside the face, not on the background
+    k = max(1, int(round(2 * FEATHER * iod)))
+    mask = raster.erode(mask, k)
+    for holes in (*layout.eyes, layout.mouth_inner):
+        raster.fill_polygon(mask, pts[list(holes)], 0.0)
+    mask = cv2.GaussianBlur(mask, (0, 0), FEATHER * iod)
+    return np.clip(cv2.resize(mask, (shape[1], shape[0]), interpolation=cv2.INTER_LINEAR), 0.0, 1.0)
+
+
+def filter_step(iod: float) -> int:
+    """How many times the ERI's filters may shrink the image: :data:`FILTER_SIGMA` spans at least :data:`FILTER_PIXELS` pixels."""
+    return max(1, int(FILTER_SIGMA * iod / FILTER_PIXELS))
+
+
+def texture(energy: np.ndarray, mean: np.ndarray, window: float) -> np.ndarray:
+    """Trust in the ratio, in [0, 1]: 1 on smooth skin, 0 where a photo is textured, from the detail's energy and the
+    luminance on a grid (:attr:`exprclone.details.coarse.Shrunk.pixels`), the window in its pixels.
+
+    The texture is the local relative contrast: the RMS of the luminance's detail above
+    ``DETAIL_SIGMA iod`` (:func:`exprclone.details.coarse.detail_energy`) over a window of ``FILTER_SIGMA iod``, divided by
+    the local mean luminance (so dark and light skin compare alike). Skin measures about 0.02-0.03; hair and beards 0.1
+    and more. It maps linearly from 1
+    at ``TEXTURE_RANGE[0]`` to 0 at ``TEXTURE_RANGE[1]``.
+    """
+    window = max(window, 0.5)
+    contrast = np.sqrt(cv2.GaussianBlur(energy, (0, 0), window)) / (cv2.GaussianBlur(mean, (0, 0), window) + raster.EPS)
+    lo, hi = TEXTURE_RANGE
+    return np.clip(cv2.GaussianBlur((hi - contrast) / (hi - lo), (0, 0), window), 0.0, 1.0)
+
+
+def light_trend(log_ratio: np.ndarray, weight: np.ndarray, iterations: int = 8) -> np.ndarray:
+    """The plane ``a + b x + c y`` that fits the log ratio over the trusted face, as an image.
+
+    A change of exposure between the source's two photos scales the ratio everywhere; a
+    light that moved tilts it across the face; neither is expression. The fit is
+    least absolute deviations (iteratively reweighted least squares), so that an
+    expression's folds and lifted cheeks, local and bright or dark, do not pull it.
+
+    Parameters
+    ----------
+    log_ratio : ndarray of shape (h, w)
+    weight : ndarray of shape (h, w)
+        Trust in each pixel; the fit uses those above 0.5.
+
+    Returns
+    -------
+    ndarray of shape (h, w), float32
+        0 where nothing is trusted.
+    """
+    ys, xs = np.unravel_index(raster.evenly(weight), weight.shape)
+    if len(xs) < 3:
+        return np.zeros(log_ratio.shape, np.float32)
+    h, w = log_ratio.shape
+    design = np.column_stack([np.ones(len(xs)), xs / w, ys / h])
+    target = log_ratio[ys, xs].astype(float)
+    row_weight = np.ones(len(xs))
+    for _ in range(iterations):
+        weighted = design.T * row_weight  # the normal equations: 3x3 (lstsq of all the rows waited on BLAS threads)
+        coef = np.linalg.lstsq(weighted @ design, weighted @ target, rcond=None)[0]
+        row_weight = 1.0 / np.maximum(np.abs(design @ coef - target), 1e-4)
+    return (coef[0] + coef[1] * np.arange(w) / w + coef[2] * np.arange(h)[:, None] / h).astype(np.float32)
+
+
+#: the channels of the source's neutral photo as the ERI warps it (:func:`neutral_channels`): its luma and detail
+#: energy (:attr:`exprclone.details.coarse.Shrunk.pixels`; the texture test is made after the warp, as on the expression
+#: photo), its chromaticity (two) and its skin trust (:func:`exprclone.details.gate.trust`).
+N_LUMA, N_ENERGY, N_CHROMA, N_SKIN = 0, 1, slice(2, 4), 4
+
+
+def neutral_channels(pixels: np.ndarray, face: np.ndarray, sigma: float) -> tuple[np.ndarray, gate.Fit]:
+    """What the ERI takes of the source's neutral photo, measured once on its own shrunk grid.
+
+    Its colour and how far that is from its face's skin do not depend on the expression,
+    so they are measured on the photo's grid, where the photo is still, and warped to
+    each expression's geometry as they are (:func:`ratio_on_grid`) rather than measured
+    again after every warp (every frame of a video). The texture test (:func:`texture`) is
+    made after the warp: measured before it, its fade was smeared by the warp's
+    resampling, and the hair of a fringe that moved (tests/details/test_gate.py) leaked into
+    the ratio.
+
+    Parameters
+    ----------
+    pixels : ndarray of shape (h, w, 5)
+        The photo's block means (:attr:`exprclone.details.coarse.Shrunk.pixels`, with its luma and detail energy).
+    face : ndarray of shape (h, w)
+        Its face where the texture test trusts it (:func:`ratio_mask` times :func:`texture`): its colour model's pixels.
+    sigma : float
+        :data:`FILTER_SIGMA` in pixels of its grid.
+
+    Returns
+    -------
+    channels : ndarray of shape (h, w, 5), float32
+        :data:`N_LUMA`, :data:`N_ENERGY`, :data:`N_CHROMA`, :data:`N_SKIN`.
+    hue : shading.Fit
+        Its chromaticity's model (:func:`exprclone.details.gate.skin`).
+    """
+    colour = gate.colour(pixels, sigma)
+    channels = np.empty(pixels.shape[:2] + (5,), np.float32)
+    channels[..., N_LUMA], channels[..., N_ENERGY] = pixels[..., coarse.LUMA], pixels[..., coarse.ENERGY]
+    channels[..., N_CHROMA], channels[..., N_SKIN] = colour[..., :2], gate.trust(colour, face)
+    return channels, gate.robust_gaussian(colour[..., :2], raster.evenly(face))
+
+
+def ratio_on_grid(
+    neutral: np.ndarray,
+    expression: np.ndarray,
+    target: np.ndarray | None,
+    mask: np.ndarray,
+    iod: float,
+    exempt: np.ndarray | None = None,
+    hue: gate.Fit = None,
+    blocks: bool = True,
+) -> np.ndarray:
+    """The ERI on the shrunk grid, from the source's photos there.
+
+    The ratio of the lumas counts where ``mask`` does, neither source photo is textured
+    (:func:`texture`) and all show the same skin (:func:`exprclone.details.gate.skin`; but for
+    ``exempt``); it is filtered over those trusted pixels only (a normalised
+    convolution: the ratio of teeth to lips or of hair to hair does not leak into the
+    skin around them), the light's trend is divided out (:func:`light_trend`) and it is
+    clamped to :data:`CLAMP`.
+
+    Parameters
+    ----------
+    neutral : ndarray of shape (h, w, 5)
+        The source's neutral photo in the target's final geometry, measured on its own grid (:func:`neutral_channels`).
+    expression : ndarray of shape (h, w, 5)
+        The expression photo's block means in that geometry (:attr:`exprclone.details.coarse.Shrunk.pixels`).
+    target : ndarray of shape (h, w) or None
+        The target's skin trust in that geometry (:func:`exprclone.details.gate.trust`); None tests no target.
+    mask : ndarray of shape (h, w)
+    iod : float
+        The target face's inter-ocular distance in pixels of this grid.
+    exempt : ndarray of shape (h, w), optional
+    hue : shading.Fit
+        The neutral photo's chromaticity (:func:`neutral_channels`).
+    blocks : bool
+        Whether the grid's pixels are blocks of several, to be enlarged (:data:`GRID_VARIANCE`), or the photo's own.
+
+    Returns
+    -------
+    ndarray of shape (h, w), float32
+        ``1 + weight (ratio - 1)``: 1 where nothing is trusted.
+    """
+    sigma = FILTER_SIGMA * iod
+    y_expression = expression[..., coarse.LUMA]
+    ratio = (y_expression + raster.EPS) / (neutral[..., N_LUMA] + raster.EPS)
+    # the colour tests compare each pixel with the face where the geometry and the texture trust it
+    photos = ((neutral[..., N_ENERGY], neutral[..., N_LUMA]), (expression[..., coarse.ENERGY], y_expression))
+    face = mask * np.minimum(*(texture(energy, luma, sigma) for energy, luma in photos))
+    colour = gate.colour(expression, sigma)
+    trust = neutral[..., N_SKIN] if target is None else neutral[..., N_SKIN] * target
+    weight = face * gate.skin(colour, neutral[..., N_CHROMA], trust, face, exempt, hue)
+    sigma = max(np.sqrt(max(sigma * sigma - (GRID_VARIANCE if blocks else 0.0), 0.0)), 0.5)
+    ratio = cv2.GaussianBlur(weight * ratio, (0, 0), sigma) / np.maximum(cv2.GaussianBlur(weight, (0, 0), sigma), 1e-6)
+    ratio = np.clip(ratio / np.exp(light_trend(np.log(np.maximum(ratio, 1e-3)), weight)), *CLAMP)
+    result: np.ndarray = 1.0 + weight * (ratio - 1.0)
+    return result
+
+
+def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | float = 1.0) -> np.ndarray:
+    """Eq. (9) applied: ``F_IMG = FI * (1 + M * IL)`` with ``IL = ERI - 1``.
+
+    With ``M = 1`` this is Liu et al.'s ERI transfer (``FI * ERI``); the MD model passes
+    its detail-importance mask ``M`` (:func:`exprclone.details.muscle.importance_mask`).
+
+    Parameters
+    ----------
+    image : ndarray of shape (H, W, 3), uint8
+        The geometrically warped target FI.
+    eri : ndarray of shape (H, W)
+    importance : ndarray of shape (H, W) or float
+
+    Returns
+    -------
+    ndarray of shape (H, W, 3), uint8
+    """
+    importance = np.asarray(importance) if np.ndim(importance) else float(importance)
+    out = np.empty(image.shape, np.uint8)
+    gains = np.empty((min(STRIP, len(image)),) + image.shape[1:], np.float32)  # one buffer for every strip (in the cache)
+    for y0 in range(0, len(image), STRIP):
+        rows = slice(y0, y0 + STRIP)
+        strip = importance if isinstance(importance, float) else importance[rows]
+        gain = (1.0 + strip * (eri[rows] - 1.0)).astype(np.float32)
+        channels = cv2.merge([gain] * image.shape[2], dst=gains[: len(gain)])
+        # one pass, rounded to nearest and saturated to [0, 255]
+        cv2.multiply(image[rows], channels, dst=out[rows], dtype=cv2.CV_8U)
+    return out

@@ -1,0 +1,173 @@
+"""The ERI of one clone (Fig. 5's ERI stage): the two neutral photos measured once, the ratio made in FI's geometry.
+
+The ratio is 1 off the face, so it is computed in the face's box only, on a grid shrunk by
+:func:`exprclone.details.eri.filter_step`: the source's neutral photo and the target's are
+shrunk over their faces and measured once (:class:`RatioFaces`); each expression photo is
+shrunk the same way (:class:`ExpressionPhoto`); and for each geometry of FI the three are
+warped onto its grid (:func:`ratio_image`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..imaging import piecewise, raster
+from ..imaging.warpers import ImageWarper
+from ..landmarks import align
+from ..landmarks.layout import Layout
+from . import coarse, eri, gate
+from .coarse import Shrunk
+
+#: the face box the ERI is computed in: the moving control points' box grown by this many inter-ocular distances.
+ERI_MARGIN = 0.5
+#: each photo is shrunk for the ERI over its moving control points' box grown by this many inter-ocular distances:
+#: the ratio counts inside their hull only (:func:`exprclone.details.eri.ratio_mask`), and its filters reach 3 sigma
+#: (:data:`exprclone.details.eri.FILTER_SIGMA`) beyond; what lies further out is the box's edge repeated.
+PHOTO_MARGIN = 0.2
+#: where the expression moves the skin is drawn this many times smaller than the face box (:func:`exprclone.details.gate.moved`).
+MOTION_SHRINK = 8
+
+
+@dataclass(frozen=True)
+class RatioFaces:
+    """What the ERI takes of the two neutral faces, the same for every expression: measured once (:meth:`prepare`).
+
+    Attributes
+    ----------
+    neutral : Shrunk
+        The source's neutral photo on its shrunk grid over its face (:class:`exprclone.details.coarse.Shrunk`), its pixels
+        what the ERI takes of it (:func:`exprclone.details.eri.neutral_channels`).
+    target : Shrunk
+        The target photo likewise, its pixels its skin trust (:func:`exprclone.details.gate.trust`).
+    hue : gate.Fit
+        The source's neutral chromaticity (:func:`exprclone.details.eri.neutral_channels`).
+    iod : float
+        The source's inter-ocular distance in its photos: the scale its expression photos are shrunk at.
+    """
+
+    neutral: Shrunk
+    target: Shrunk
+    hue: gate.Fit
+    iod: float
+
+    @classmethod
+    def prepare(cls, mesh: piecewise.Mesh, source: np.ndarray, source_ctrl: np.ndarray, target: np.ndarray, layout: Layout) -> RatioFaces:
+        """Both neutral photos shrunk (the source's with the control points ``source_ctrl`` of ``mesh`` on it) and measured
+        over their faces."""
+        measured = []
+        for image, ctrl, detail in ((source, source_ctrl, True), (target, mesh.points, False)):
+            iod = align.interocular(ctrl[: mesh.n_landmarks], layout)
+            photo = Shrunk.of(image, ctrl[: mesh.n_moving], iod, eri.filter_step(iod), PHOTO_MARGIN * iod, detail)
+            at = coarse.grid_points(ctrl - photo.origin, photo.step)
+            grid = photo.pixels.shape[:2]
+            face = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // photo.step))
+            sigma = eri.FILTER_SIGMA * iod / photo.step
+            if detail:  # where the texture test trusts it, as the ERI's colour tests do
+                face *= eri.texture(photo.pixels[..., coarse.ENERGY], photo.pixels[..., coarse.LUMA], sigma)
+            measured.append((photo, face, sigma))
+        (neutral, neutral_face, sigma), (target_photo, target_face, target_sigma) = measured
+        channels, hue = eri.neutral_channels(neutral.pixels, neutral_face, sigma)
+        trust = gate.trust(gate.colour(target_photo.pixels, target_sigma), target_face)
+        iod = align.interocular(source_ctrl[: mesh.n_landmarks], layout)
+        return cls(dataclasses.replace(neutral, pixels=channels), dataclasses.replace(target_photo, pixels=trust), hue, iod)
+
+    def expression(self, image: np.ndarray, ctrl: np.ndarray, motion: np.ndarray, mesh: piecewise.Mesh) -> ExpressionPhoto:
+        """A source expression photo, the control points ``ctrl`` of ``mesh`` on it, shrunk as its neutral photo is;
+        ``motion`` is how far each control point moves (:attr:`ExpressionPhoto.motion`)."""
+        return ExpressionPhoto(Shrunk.of(image, ctrl[: mesh.n_moving], self.iod, self.neutral.step, PHOTO_MARGIN * self.iod), ctrl, motion)
+
+
+@dataclass(frozen=True)
+class ExpressionPhoto:
+    """One source expression as the ERI takes it, the same for every geometry of FI (:meth:`RatioFaces.expression`).
+
+    Attributes
+    ----------
+    photo : Shrunk
+        Its photo, shrunk over its face as the source's neutral photo is.
+    ctrl : ndarray of shape (P, 2)
+        The mesh's control points placed on that photo.
+    motion : ndarray of shape (P,)
+        How far each control point moves from the source's neutral face (inter-ocular distances, head motion
+        removed), for :func:`exprclone.details.gate.moved`.
+    """
+
+    photo: Shrunk
+    ctrl: np.ndarray
+    motion: np.ndarray
+
+    @staticmethod
+    def motion_of(
+        still: np.ndarray, neutral: np.ndarray, target: np.ndarray, neutral_ctrl: np.ndarray, mesh: piecewise.Mesh, layout: Layout
+    ) -> np.ndarray:
+        """How far the source's skin moves at each control point from its ``neutral`` landmarks to ``still`` (its
+        expression's, the head's motion removed: :func:`exprclone.geometry.global_warp.remove_head_motion`), in the
+        source's inter-ocular distances; ``neutral_ctrl`` are the control points on its neutral photo, placed by the
+        similarity from the ``target``'s neutral landmarks."""
+        shift = mesh.control_points(still, align.fit_rigid(target, neutral, layout)) - neutral_ctrl
+        return np.linalg.norm(shift, axis=1) / align.interocular(neutral, layout)
+
+
+def ratio_image(
+    mesh: piecewise.Mesh,
+    dst: np.ndarray,
+    shape: tuple[int, ...],
+    faces: RatioFaces,
+    neutral_ctrl: np.ndarray,
+    expression: ExpressionPhoto,
+    layout: Layout,
+    image_warp: ImageWarper,
+) -> tuple[np.ndarray, tuple[slice, slice]]:
+    """The ERI of the source's two photos in the target's final geometry, warped by ``image_warp``
+    (:data:`exprclone.imaging.warpers.IMAGE_WARPERS`).
+
+    The ratio is 1 off the face, so it is computed in the face's box only, on its grid
+    shrunk by :func:`exprclone.details.eri.filter_step`: the three photos, shrunk over their faces
+    (:class:`exprclone.details.coarse.Shrunk`), are warped there (:func:`exprclone.details.eri.ratio_on_grid`); the
+    two neutral ones as ``faces`` measured them once. It counts only where the expression
+    moves the skin and all three photos show the same skin there (its ``mask`` times
+    :func:`exprclone.details.gate.moved`, the lips exempt from the colour test).
+
+    Parameters
+    ----------
+    mesh : piecewise.Mesh
+    dst : ndarray of shape (P, 2)
+        FI's control points: the target's final geometry.
+    shape : tuple of int
+        The target photo's shape.
+    faces : RatioFaces
+        The source's neutral photo and the target's, prepared.
+    neutral_ctrl : ndarray of shape (P, 2)
+        The control points on the source's neutral photo.
+    expression : ExpressionPhoto
+        The source's expression photo, shrunk, its control points and their motion (:meth:`RatioFaces.expression`).
+    layout : Layout
+    image_warp : ImageWarper
+
+    Returns
+    -------
+    eri : ndarray of shape (H, W)
+        In the target photo's frame.
+    box : tuple of slice
+        Where it may differ from 1.
+    """
+    iod = align.interocular(dst[: mesh.n_landmarks], layout)
+    rows, cols = box = align.box(dst[: mesh.n_moving], shape, ERI_MARGIN * iod, closed=False)
+    size = (rows.stop - rows.start, cols.stop - cols.start)
+    step = min(eri.filter_step(iod), *size)
+    grid = (size[0] // step, size[1] // step)
+    local = dst - (cols.start, rows.start)
+    at = coarse.grid_points(local, step)
+    labelling = piecewise.Labelling.of(at, mesh.triangles, grid)  # one for the three warps and the motion's mask
+    photos = zip((faces.neutral, expression.photo, faces.target), (neutral_ctrl, expression.ctrl, mesh.points))
+    neutral, moved_photo, target_trust = (photo.warped(image_warp, ctrl, labelling, mesh) for photo, ctrl in photos)
+    mask = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // step))
+    mask *= gate.moved(labelling, expression.motion, iod / step, max(1, MOTION_SHRINK // step))
+    lip_region = gate.lips(grid, at[: mesh.n_landmarks], layout)
+    small = eri.ratio_on_grid(neutral, moved_photo, target_trust, mask, iod / step, lip_region, faces.hue, step > 1)
+    out = np.ones(shape[:2], np.float32)
+    out[box] = raster.enlarge(small, size, step)
+    return out, box

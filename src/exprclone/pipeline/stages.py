@@ -1,0 +1,152 @@
+"""The shape stages of Fig. 5 (GI, LI, the elastic model) as a table of functions over the prepared faces.
+
+A source expression is first made ready for them (:func:`expression`): with ``retarget``, its
+motion cleaned and the organs local re-shaping aims at made the target's. Each shape stage
+(:data:`SHAPE_STAGES`) then computes its landmarks from the ones before it (:func:`shapes`): the
+global stage by the global warp the options name (:data:`GLOBAL_WARPERS`, keyed by
+:attr:`exprclone.options.Options.global_warp`) unless they give GI; the elastic stage with
+lambda_k given or chosen by the DB metric. What a user may choose is :mod:`exprclone.options`'.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..geometry import db_metric, eigenface, elastic, global_warp, local_warp
+from ..geometry.eigenface import default_eigenfaces
+from ..geometry.retarget import clean, organ_reference
+from ..landmarks import lips
+from ..methods import SHAPES
+from ..options import Options
+from .faces import Faces
+
+
+@dataclass(frozen=True)
+class Expression:
+    """One source expression to clone (:func:`expression` makes it).
+
+    Attributes
+    ----------
+    image : ndarray of shape (H, W, 3), uint8 RGB
+        Its photo.
+    points : ndarray of shape (N, 2)
+        Its landmarks in the photo, the lips made valid.
+    lambda_k : float or str
+        The lambda_k asked for.
+    moving : ndarray of shape (N, 2)
+        The landmarks whose motion from the source's neutral ones the global warps carry:
+        ``points`` (the paper), or that motion cleaned (:func:`exprclone.geometry.retarget.clean`).
+    organs : ndarray of shape (N, 2)
+        What local re-shaping gives each organ the height-to-width ratio of (Eqs. 1-2):
+        ``points``, the source's own organs (the paper), or the target's organs moved by
+        the source (:func:`exprclone.geometry.retarget.organ_reference`).
+    still : ndarray of shape (N, 2)
+        ``points`` with the head's motion removed, in the neutral photo's frame
+        (:func:`exprclone.geometry.global_warp.remove_head_motion`): what the ERI's gate and the MD model measure.
+    crop : ndarray of shape (S, S) or None
+        Its eye-aligned grey crop (:func:`exprclone.geometry.eigenface.crop`), whose eigenface features
+        the DB metric compares (``E_source_exp`` of Eq. 7), if the caller has made it (the
+        role check's); None leaves it to the elastic stage, made only when it chooses ``lambda_k``.
+    """
+
+    image: np.ndarray
+    points: np.ndarray
+    lambda_k: float | str
+    moving: np.ndarray
+    organs: np.ndarray
+    still: np.ndarray
+    crop: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Shape:
+    """What a shape stage gives: landmarks, and for the elastic model the lambda_k used and the DB curve."""
+
+    points: np.ndarray
+    lambda_k: float | None = None
+    db_curve: db_metric.DBCurve | None = None
+
+
+@dataclass(frozen=True)
+class Rendered:
+    """The target photo warped to one shape (FI): the image, the control points it was warped to, and how many were unfolded."""
+
+    image: np.ndarray
+    control: np.ndarray
+    unfolded: int
+
+
+def similarity_warp(faces: Faces, expression: Expression) -> np.ndarray:
+    """GI of the paper: the source's motion, similarity-aligned, on the target (:func:`exprclone.geometry.global_warp.global_landmarks`)."""
+    return global_warp.global_landmarks(faces.s_neu, expression.moving, faces.t_neu, faces.layout)
+
+
+def rbf_warp(faces: Faces, expression: Expression) -> np.ndarray:
+    """GI of Seol and Lewis: each landmark's motion by the RBF map's Jacobian (:func:`exprclone.geometry.global_warp.rbf_landmarks`)."""
+    return global_warp.rbf_landmarks(faces.s_neu, expression.moving, faces.t_neu, faces.layout, faces.rbf_jacobians)
+
+
+#: the global warps by name (:data:`exprclone.options.GLOBAL_WARPS`), each ``(faces, expression) -> GI landmarks``.
+GLOBAL_WARPERS: dict[str, Callable[[Faces, Expression], np.ndarray]] = {"similarity": similarity_warp, "rbf": rbf_warp}
+
+
+def global_stage(faces: Faces, options: Options, expression: Expression, shapes: dict[str, Shape]) -> Shape:
+    """GI: given from outside, the result of any other method (Fig. 21), else by the global warp of the options
+    (:data:`GLOBAL_WARPERS`)."""
+    given = options.global_landmarks
+    return Shape(given if given is not None else GLOBAL_WARPERS[options.global_warp](faces, expression))
+
+
+def local_stage(faces: Faces, options: Options, expression: Expression, shapes: dict[str, Shape]) -> Shape:
+    """LI: each organ of GI re-shaped to the expression's organs (:attr:`Expression.organs`), Eqs. (1)-(2)."""
+    return Shape(local_warp.local_landmarks(shapes["global"].points, expression.organs, faces.layout))
+
+
+def elastic_stage(faces: Faces, options: Options, expression: Expression, shapes: dict[str, Shape]) -> Shape:
+    """The elastic model's balance of GI and LI, Eqs. (3)-(6), lambda_k given or chosen by the DB metric, Eqs. (7)-(8)."""
+    gl, local = shapes["global"].points, shapes["local"].points
+    if expression.lambda_k != "auto":
+        chosen = float(expression.lambda_k)
+        return Shape(elastic.elastic_landmarks(gl, local, faces.neighbours, chosen), chosen)
+    lambdas = np.array(db_metric.LAMBDAS)
+    # the DB metric looks at 64-pixel crops: its candidates need no sub-pixel search (db_metric.CANDIDATE_PASSES)
+    candidates = list(elastic.elastic_landmarks(gl, local, faces.neighbours, lambdas, db_metric.CANDIDATE_PASSES))
+    eigenfaces = options.eigenfaces or default_eigenfaces()
+    crop = eigenface.crop(expression.image, expression.points, faces.layout) if expression.crop is None else expression.crop
+    curve = db_metric.choose_lambda(faces.db_target, faces.mesh, candidates, lambdas, crop, eigenfaces, faces.layout)
+    return Shape(elastic.elastic_landmarks(gl, local, faces.neighbours, curve.best), curve.best, curve)
+
+
+#: the shape stages of :data:`exprclone.methods.SHAPES` by name, each computed from the ones before it.
+SHAPE_STAGES: dict[str, Callable[[Faces, Options, Expression, dict[str, Shape]], Shape]] = {
+    "global": global_stage,
+    "local": local_stage,
+    "elastic": elastic_stage,
+}
+
+
+def expression(
+    faces: Faces, image: np.ndarray, points: np.ndarray, lambda_k: float | str, retarget: bool, crop: np.ndarray | None
+) -> Expression:
+    """One source expression, prepared for the shape stages: with ``retarget``, its motion cleaned and the organs
+    local re-shaping aims at made the target's (:mod:`exprclone.geometry.retarget`); without, the paper's (its own
+    points). ``crop`` is its eye-aligned crop if the caller has made it (:attr:`Expression.crop`)."""
+    points = lips.uncross(points, faces.layout)
+    still = global_warp.remove_head_motion(faces.s_neu, points, faces.layout)
+    if not retarget:
+        return Expression(image, points, lambda_k, points, points, still, crop)
+    cleaned = clean(faces.s_neu, points, faces.layout, still)
+    organs = organ_reference(faces.s_neu, cleaned, faces.t_neu, faces.layout)
+    return Expression(image, points, lambda_k, cleaned, organs, still, crop)
+
+
+def shapes(faces: Faces, options: Options, expression: Expression, wanted: set[str]) -> dict[str, Shape]:
+    """The shape stages (:data:`SHAPE_STAGES`) up to the last one ``wanted``; GI and LI always."""
+    done: dict[str, Shape] = {}
+    for name in SHAPES:
+        if name in wanted | {"global", "local"}:
+            done[name] = SHAPE_STAGES[name](faces, options, expression, done)
+    return done

@@ -1,0 +1,361 @@
+"""The command: a real run, and every bad input ending in one line, exit 2, no output."""
+
+import csv
+import json
+import os
+import subprocess
+import sys
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from conftest import command, neutral_path, smile_path
+from PIL import Image
+
+import exprclone
+import exprclone.expressions
+from exprclone.expressions.files import write
+
+SN, SE, TN = str(neutral_path("001")), str(smile_path("001")), str(neutral_path("003"))
+
+
+run = command  # in this process: the commands' own subprocesses (workers) aside, no test here needs one
+
+
+def test_clone_writes_image_and_json(london, tmp_path):
+    out, record = tmp_path / "out.png", tmp_path / "out.json"
+    p = run("clone", SN, SE, TN, "-o", out, "--save-json", record)
+    assert p.returncode == 0, p.stderr
+    assert Image.open(out).size == Image.open(TN).size
+    data = json.loads(record.read_text())
+    assert data["method"] == "e+md" and len(data["landmarks"]["final"]) == 68
+    assert len(data["db_curve"]) > 5 and data["lambda_k"] in [c["lambda_k"] for c in data["db_curve"]]
+    assert sorted(os.listdir(tmp_path)) == ["out.json", "out.png"]  # no temporary files left
+
+
+def test_clone_with_given_landmarks_and_fixed_lambda(pair, tmp_path):
+    _, landmarks = pair
+    files = []
+    for name, lm in zip(("sn", "se", "tn"), landmarks):
+        files.append(tmp_path / f"{name}.json")
+        files[-1].write_text(json.dumps({"landmarks": lm.tolist()}))
+    out, record = tmp_path / "out.jpg", tmp_path / "out.json"
+    p = run(
+        "clone",
+        SN,
+        SE,
+        TN,
+        "-o",
+        out,
+        "--method",
+        "local+eri",
+        "--lambda",
+        "3",
+        "--save-json",
+        record,
+        "--source-neutral-landmarks",
+        files[0],
+        "--source-expression-landmarks",
+        files[1],
+        "--target-neutral-landmarks",
+        files[2],
+    )
+    assert p.returncode == 0, p.stderr
+    data = json.loads(record.read_text())
+    assert np.allclose(data["landmarks"]["target_neutral"], landmarks[2], atol=1e-3)
+
+
+def expect_error(tmp_path, args, needle):
+    """Exit 2, one line on stderr naming ``needle``, no traceback and no output file."""
+    out = tmp_path / "result.png"
+    p = run("clone", *args, "-o", out) if "-o" not in args else run("clone", *args)
+    assert p.returncode == 2, p.stderr
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("exprclone: error: ") and str(needle) in lines[0], p.stderr
+    assert "Traceback" not in p.stderr
+    assert not out.exists()
+    assert not [f for f in os.listdir(tmp_path) if f.startswith(".result")]
+
+
+def test_missing_file(london, tmp_path):
+    expect_error(tmp_path, [SN, tmp_path / "nope.jpg", TN], tmp_path / "nope.jpg")
+
+
+def test_not_an_image(london, tmp_path):
+    fake = tmp_path / "fake.jpg"
+    fake.write_text("hello")
+    expect_error(tmp_path, [SN, SE, fake], fake)
+
+
+def test_no_face(london, tmp_path):
+    blank = tmp_path / "wall.png"
+    Image.fromarray(np.full((300, 400, 3), 200, np.uint8)).save(blank)
+    expect_error(tmp_path, [blank, SE, TN], f"{blank}: no face found")
+
+
+def test_landmark_file_with_wrong_count(pair, tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"landmarks": pair[1][2][:50].tolist()}))
+    expect_error(tmp_path, [SN, SE, TN, "--target-neutral-landmarks", bad], bad)
+
+
+def test_landmark_file_outside_the_image(pair, tmp_path):
+    bad = tmp_path / "bad.json"
+    lm = pair[1][2].copy()
+    lm[10] = (5000, 20)
+    bad.write_text(json.dumps({"landmarks": lm.tolist()}))
+    expect_error(tmp_path, [SN, SE, TN, "--target-neutral-landmarks", bad], bad)
+
+
+def test_output_is_an_input(london, tmp_path):
+    copy = tmp_path / "target.jpg"
+    copy.write_bytes(open(TN, "rb").read())
+    before = copy.read_bytes()
+    p = run("clone", SN, SE, copy, "-o", copy)
+    assert p.returncode == 2 and "overwrite" in p.stderr and str(copy) in p.stderr
+    assert copy.read_bytes() == before
+
+
+@pytest.mark.parametrize("args,needle", [(["--method", "magic"], "invalid choice"), (["--lambda", "-1"], "--lambda")])
+def test_bad_options(london, tmp_path, args, needle):
+    p = run("clone", SN, SE, TN, "-o", tmp_path / "r.png", *args)
+    assert p.returncode == 2 and needle in p.stderr
+    assert not (tmp_path / "r.png").exists()
+
+
+def test_compare_draws_the_sheet(london, tmp_path):
+    out = tmp_path / "panel.png"
+    p = run("compare", SN, SE, TN, "-o", out)
+    assert p.returncode == 0, p.stderr
+    w, h = Image.open(out).size
+    assert w == 8 * 320 and h == 3 * 320
+
+
+def test_evaluate_on_two_pairs(london, tmp_path):
+    out = tmp_path / "report"
+    p = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global,e+md", "--out", out)
+    assert p.returncode == 0, p.stderr
+    rows = (out / "pairs.csv").read_text().splitlines()
+    assert len(rows) == 1 + 2 * 4  # header, then (no change, real, global, e+md) per pair
+    summary = (out / "summary.md").read_text()
+    assert "| e+md |" in summary and "| no change |" in summary and (out / "gallery.jpg").is_file()
+    assert "| real | 2 | 0 | 0.0000 / 0.0000" in p.stdout
+
+
+def test_evaluate_rejects_an_unknown_method(london, tmp_path):
+    p = run("evaluate", "--data", london, "--methods", "global,warp", "--out", tmp_path / "r")
+    assert p.returncode == 2 and "warp" in p.stderr and not (tmp_path / "r").exists()
+
+
+def test_start_up_stays_lean():
+    """`import exprclone` and `exprclone --help` load neither numpy, OpenCV, SciPy nor dlib."""
+    heavy = "{'numpy', 'cv2', 'scipy', 'dlib'}"
+    code = f"import sys, exprclone, exprclone.cli; exprclone.cli.build_parser(); print(sorted({heavy} & set(sys.modules)))"
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert p.returncode == 0 and p.stdout.strip() == "[]", p.stdout + p.stderr
+    assert callable(__import__("exprclone").clone)  # the pipeline is there when asked for
+
+
+def test_the_core_loads_no_outer_layer():
+    """The method (pipeline, drive) imports neither file formats (Pillow, PyAV) nor the server's or batch's libraries."""
+    outer = "{'PIL', 'av', 'fastapi', 'uvicorn', 'dask', 'distributed', 'exprclone.io', 'exprclone.cli', 'exprclone.server'}"
+    loaded = "{'.'.join(m.split('.')[:2]) if m.startswith('exprclone') else m.split('.')[0] for m in sys.modules}"
+    code = f"import sys, exprclone.pipeline.clone, exprclone.drive; print(sorted({outer} & {loaded}))"
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert p.returncode == 0 and p.stdout.strip() == "[]", p.stdout + p.stderr
+
+
+def test_clone_with_the_transfer_options(london, tmp_path):
+    out, record = tmp_path / "out.png", tmp_path / "out.json"
+    args = ("--global-warp", "rbf", "--image-warp", "tps", "--strength", "0", "--no-retarget", "--save-json", record)
+    p = run("clone", SN, SE, TN, "-o", out, *args)
+    assert p.returncode == 0, p.stderr
+    assert "global warp rbf, image warp tps, strength 0, no retarget" in p.stdout
+    assert np.abs(np.asarray(Image.open(out)).astype(int) - np.asarray(Image.open(TN))).max() <= 1  # strength 0: the target
+    recorded = json.loads(record.read_text())["options"]
+    assert recorded == {"global_warp": "rbf", "image_warp": "tps", "strength": 0.0, "only": None, "retarget": False}
+
+
+def test_global_landmarks_equal_to_the_default_gi_give_the_default_image(pair, tmp_path):
+    """Fig. 21's setting from the command line: the GI of the default clone, given as a file, gives the same image."""
+    from exprclone.io.landmarks import write_landmarks
+
+    images, landmarks = pair
+    files = []
+    for role, lm in zip(("source-neutral", "source-expression", "target-neutral"), landmarks):
+        write_landmarks(tmp_path / f"{role}.json", lm)
+        files += [f"--{role}-landmarks", tmp_path / f"{role}.json"]
+    write_landmarks(tmp_path / "gi.json", exprclone.clone(*images, landmarks=landmarks).landmarks["global"])
+    assert run("clone", SN, SE, TN, "-o", tmp_path / "default.png", *files).returncode == 0
+    p = run("clone", SN, SE, TN, "-o", tmp_path / "given.png", *files, "--global-landmarks", tmp_path / "gi.json")
+    assert p.returncode == 0 and "global warp given" in p.stdout, p.stderr
+    assert np.array_equal(np.asarray(Image.open(tmp_path / "given.png")), np.asarray(Image.open(tmp_path / "default.png")))
+
+
+def test_compare_draws_figure_19(london, tmp_path):
+    out = tmp_path / "fig19.png"
+    p = run("compare", SN, SE, TN, "-o", out, "--figure", "19")
+    assert p.returncode == 0, p.stderr
+    assert Image.open(out).size == (6 * 320, 320) and "global warp rbf" in p.stdout
+
+
+@pytest.mark.parametrize(
+    "args,needle",
+    [
+        (["--strength", "3"], "--strength"),
+        (["--strength", "much"], "--strength"),
+        (["--only", "mouth,nose"], "unknown region 'nose'"),
+        (["--global-warp", "affine"], "invalid choice"),
+        (["--image-warp", "spline"], "invalid choice"),
+        (["--global-warp", "rbf", "--global-landmarks", "gi.json"], "not allowed with"),
+    ],
+)
+def test_bad_transfer_options(london, tmp_path, args, needle):
+    p = run("clone", SN, SE, TN, "-o", tmp_path / "r.png", *args)
+    assert p.returncode == 2 and needle in p.stderr, p.stderr
+    assert not (tmp_path / "r.png").exists()
+
+
+def test_a_global_landmark_file_with_the_wrong_count(pair, tmp_path):
+    bad = tmp_path / "gi.json"
+    bad.write_text(json.dumps({"landmarks": pair[1][2][:50].tolist()}))
+    expect_error(tmp_path, [SN, SE, TN, "--global-landmarks", bad], f"{bad}: found 50 landmarks")
+
+
+def test_evaluate_with_variants(london, tmp_path):
+    out = tmp_path / "report"
+    p = run("evaluate", "--data", london, "--pairs", "1", "--methods", "global,elastic", "--global-warps", "similarity,rbf", "--out", out)
+    assert p.returncode == 0, p.stderr
+    rows = (out / "pairs.csv").read_text().splitlines()
+    assert len(rows) == 1 + 2 + 2 * 2  # header, the references, then two methods in two variants
+    assert "| elastic [rbf] | 1 | 0 |" in p.stdout and "| global [rbf] - global | 1 |" in p.stdout
+    assert "## Pair by pair" in (out / "summary.md").read_text() and "| elastic [rbf] - global [rbf] | 1 |" in p.stdout
+    p = run("evaluate", "--data", london, "--global-warps", "affine", "--out", tmp_path / "r")
+    assert p.returncode == 2 and "unknown global warp 'affine'" in p.stderr
+
+
+@pytest.mark.parametrize(
+    "kind, content, problem",
+    [
+        ("strip.png", None, "image is too narrow (32x40000 pixels; the long side may be at most 8 times the short one)"),
+        (
+            "same.json",
+            json.dumps([[500, 500]] * 68),
+            "not a face: the outer eye corners (points 36 and 45) are 0 pixels apart (at least 8)",
+        ),
+        ("count.tem", "1" * 5000 + "\n", "not a .tem template (the first line must be the point count, got '1111"),
+    ],
+)
+def test_hostile_files_end_in_one_line_and_exit_2(tmp_path, kind, content, problem):
+    """The server's hostile inputs (issue D1, D2) on the command line: a thin photo, broken landmark files."""
+    path = tmp_path / kind
+    if content is None:
+        Image.new("RGB", (32, 40000)).save(path)
+    else:
+        path.write_text(content)
+    args = [path, SE, TN] if content is None else [SN, SE, TN, "--target-neutral-landmarks", path]
+    p = run("clone", *args, "-o", tmp_path / "out.png")
+    assert p.returncode == 2 and p.stderr.startswith(f"exprclone: error: {path}: {problem}") and p.stderr.count("\n") == 1, p.stderr
+    assert not (tmp_path / "out.png").exists()
+
+
+def test_version_prints_the_version():
+    done = run("--version")
+    assert done.returncode == 0 and done.stdout.strip() == f"exprclone {exprclone.__version__}"
+
+
+def test_expressions_lists_the_built_in_names():
+    p = run("expressions")
+    assert p.returncode == 0 and p.stdout.split() == list(exprclone.expressions.names()) and "smile" in p.stdout.split()
+
+
+def test_clone_one_photo_with_a_built_in_expression(london, tmp_path):
+    out, record = tmp_path / "out.png", tmp_path / "out.json"
+    p = run("clone", TN, "--expression", "smile", "--strength", "0.7", "--only", "mouth", "-o", out, "--save-json", record)
+    assert p.returncode == 0, p.stderr
+    assert "expression smile" in p.stdout and "strength 0.7" in p.stdout and "only mouth" in p.stdout
+    data = json.loads(record.read_text())
+    assert data["inputs"]["target_neutral"] == TN and data["inputs"]["source_expression"] == "--expression smile (expression)"
+    smile = exprclone.expressions.load("smile")
+    assert np.allclose(data["landmarks"]["source_expression"], smile.expression.points, atol=1e-3)
+    assert Image.open(out).size == Image.open(TN).size
+
+
+@pytest.mark.parametrize(
+    "args, needle",
+    [
+        ([SN, SE, TN, "--expression", "smile"], "--expression: give the target's photo alone"),
+        ([SN, TN, "--expression", "smile"], "--expression: give the target's photo alone"),
+        ([TN], "source_neutral: missing: give the source's neutral and expression photos"),
+        ([SN, TN], "source_expression: missing"),
+        ([TN, "--expression", "grin"], "--expression: unknown expression 'grin'; the built-in expressions are: smile, smile-001"),
+        ([TN, "--expression", "smile", "--source-neutral-landmarks", "x.json"], "--source-neutral-landmarks: not with --expression"),
+    ],
+)
+def test_a_built_in_expression_with_the_wrong_photos_is_one_line(london, tmp_path, args, needle):
+    expect_error(tmp_path, args, needle)
+
+
+def test_compare_with_a_built_in_expression(london, tmp_path):
+    out = tmp_path / "sheet.jpg"
+    p = run("compare", TN, "--expression", "smile-126", "-o", out)
+    assert p.returncode == 0, p.stderr
+    assert Image.open(out).size[0] == 8 * 320
+
+
+def test_evaluate_scores_an_expression_only_on_people_it_was_not_made_from(london, tmp_path):
+    p = run(
+        "evaluate",
+        "--data",
+        london,
+        "--pairs",
+        "2",
+        "--methods",
+        "global",
+        "--expression",
+        "smile-126",
+        "--out",
+        tmp_path,
+        "--landmarker",
+        "mesh",
+    )
+    assert p.returncode == 0, p.stderr
+    rows = list(csv.DictReader(open(tmp_path / "pairs.csv")))
+    mine = [r for r in rows if r["method"] == "global [smile-126]"]
+    assert sorted(r["target"] for r in mine) == ["001", "003"] and all(r["source"] == "smile-126" for r in mine)
+    assert "## Built-in expressions against the individual sources" in (tmp_path / "summary.md").read_text()
+    assert (tmp_path / "expressions.jpg").is_file()
+
+
+def test_evaluate_refuses_an_expression_made_from_everyone(london, tmp_path):
+    made = exprclone.expressions.load("smile-126")
+    every = write(replace(made, name="everyone", people=("001", "003", "126")), tmp_path)
+    p = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global", "--expression", every, "--out", tmp_path / "report")
+    assert p.returncode == 2 and "--expression: every person in" in p.stderr and "helped make everyone" in p.stderr
+
+
+@pytest.mark.parametrize(
+    "flag, value, expected",
+    [
+        ("--max-jobs", "0", "--max-jobs: expected at least 1, got 0"),
+        ("--job-ttl", "nan", "--job-ttl: expected at least 1 s, got nan"),
+        ("--max-megapixels", "-1", "--max-megapixels: expected at least 0.001 megapixels, got -1"),
+        ("--max-live", "-1", "--max-live: expected at least 0, got -1"),
+        ("--video-workers", "0", "--video-workers: expected at least 1, got 0"),
+        ("--keep-alive", "0", "--keep-alive: expected at least 0.001 s, got 0"),
+        ("--workers", "0", "--workers: expected at least 1, got 0"),
+    ],
+)
+def test_serve_refuses_bad_bounds_before_it_starts(flag, value, expected):
+    r = run("serve", "--port", "1", flag, value)
+    assert r.returncode == 2 and r.stderr.strip() == f"exprclone: error: {expected}" and r.stdout == ""
+
+
+@pytest.mark.parametrize("words", [("serve",), ("study", "serve", ".")])
+def test_serving_without_the_server_extra_says_what_to_install(monkeypatch, words):
+    """A library install has no FastAPI (the ``server`` extra): the commands that serve say so in one line."""
+    monkeypatch.setitem(sys.modules, "fastapi", None)  # as if it were not installed
+    r = run(*words)
+    assert r.returncode == 2 and r.stderr.strip() == (
+        "exprclone: error: serve: needs the web server's packages (fastapi is missing): pip install 'exprclone[server]'"
+    )

@@ -1,0 +1,59 @@
+"""The compare sheet (Figs. 11-13 and the DB curve): every panel where the paper puts it."""
+
+import numpy as np
+import pytest
+
+from exprclone.evaluation import figures
+from exprclone.geometry.db_metric import DBCurve
+from exprclone.methods import METHODS
+from exprclone.pipeline.clone import CloneResult
+
+CELL, BAR = figures.CELL, 24  # the caption bar's height
+
+
+def panel(sheet, row, column):
+    """A cell's picture, below its caption bar."""
+    return sheet[row * CELL + BAR + 2 : (row + 1) * CELL - 2, column * CELL + 2 : (column + 1) * CELL - 2]
+
+
+@pytest.fixture(scope="module")
+def drawn(pair_points):
+    """Results of flat grey, one shade per method (e+md the same as elastic+eri), and a DB curve with its minimum at 1.5."""
+    (sn, se, tn), shape = pair_points
+    shade = {m: 30 + 25 * k for k, m in enumerate(METHODS)}
+    shade["e+md"] = shade["elastic+eri"]
+    lambdas = np.array([0.0, 0.5, 1.0, 1.5, 3.0, np.inf])
+    db = np.array([3.0, 2.6, 2.4, 2.1, 2.5, 2.9])
+    curve = DBCurve(lambdas, db, db / 2, db / 2, 1.5)
+    landmarks = {"target_neutral": tn, "source_expression": se}
+    results = {m: CloneResult(np.full(shape, shade[m], np.uint8), m, landmarks, db_curve=curve) for m in METHODS}
+    source = np.full(shape, 250, np.uint8)
+    return figures.sheet(results, source), shade, curve
+
+
+def test_fig_11_row_shows_each_method_in_its_panel_then_the_source(drawn):
+    sheet, shade, _ = drawn
+    assert sheet.shape == (3 * CELL, 8 * CELL, 3)
+    for column, method in enumerate(METHODS):
+        assert (panel(sheet, 0, column) == shade[method]).all(), method
+    assert (panel(sheet, 0, 7) == 250).all()
+
+
+def test_difference_panels_are_black_where_images_agree_and_full_scale_where_they_differ(drawn):
+    sheet, _, _ = drawn
+    # Fig. 12: (b)-(g) against (a); all differ from global, so each is normalised to 255
+    assert all((panel(sheet, 1, k) == 255).all() for k in range(6))
+    # Fig. 13: (b)-(a), (c)-(a), (d)-(a), (e)-(d), (f)-(d), (g)-(f): the last pair agrees
+    assert all((panel(sheet, 2, k) == 255).all() for k in range(5))
+    assert (panel(sheet, 2, 5) == 0).all()
+
+
+def test_the_db_plot_marks_the_chosen_lambda_at_the_curves_minimum(drawn):
+    sheet, _, curve = drawn
+    plot = sheet[2 * CELL : 3 * CELL, 6 * CELL : 7 * CELL].astype(int)
+    red = (plot[..., 0] > 180) & (plot[..., 1] < 60) & (plot[..., 2] < 60)
+    ys, xs = np.nonzero(red)
+    k = int(np.argmin(curve.db))
+    x_expected = np.linspace(40, CELL - 12, len(curve.db))[k]
+    assert red.sum() > 50 and abs(xs.mean() - x_expected) < 1.5
+    assert abs(ys.mean() - (CELL - 40)) < 1.5  # the minimum sits on the bottom axis

@@ -1,0 +1,201 @@
+"""The scores of exprclone evaluate: they must measure what they claim."""
+
+import cv2
+import numpy as np
+import pytest
+
+from exprclone.evaluation.london import Dataset
+from exprclone.evaluation.report import contrast_table
+from exprclone.evaluation.runner import smile_strength, variants
+from exprclone.evaluation.scores import SAME_PERSON, TEETH_SHOWN, FaceDescriptor, identity_distance, landmark_error, teeth
+from exprclone.evaluation.statistics import contrasts, summarise
+from exprclone.landmarks import align
+from exprclone.landmarks.layout import DLIB68
+
+
+@pytest.fixture(scope="module")
+def descriptor():
+    return FaceDescriptor()
+
+
+def test_result_equal_to_the_real_smile_scores_zero(photo):
+    _, truth = photo("003", "smile")
+    err = landmark_error(truth, truth, DLIB68)
+    assert err == {"overall": 0.0, "mouth": 0.0, "eyes_brows": 0.0}
+
+
+def test_similarity_transformed_copy_scores_the_same(photo):
+    _, truth = photo("003", "smile")
+    _, result = photo("003")
+    t = np.array([[0.9 * np.cos(0.2), -0.9 * np.sin(0.2), 40.0], [0.9 * np.sin(0.2), 0.9 * np.cos(0.2), -25.0]])
+    a, b = landmark_error(result, truth, DLIB68), landmark_error(align.apply(t, result), truth, DLIB68)
+    assert a == pytest.approx(b, rel=1e-9)
+    assert a["overall"] > 0
+
+
+def test_no_change_scores_worse_than_the_real_smile(photo):
+    errors = {}
+    for face_id in ("001", "003", "126"):
+        _, neutral = photo(face_id)
+        _, smile = photo(face_id, "smile")
+        errors[face_id] = (smile_strength(neutral, smile), landmark_error(neutral, smile, DLIB68))
+        assert errors[face_id][1]["overall"] > landmark_error(smile, smile, DLIB68)["overall"] + 0.005
+    # for the broadest of these smiles the change is mostly at the mouth
+    _, broadest = max(errors.values(), key=lambda e: e[0])
+    assert broadest["mouth"] > broadest["eyes_brows"]
+
+
+def test_identity_is_small_for_one_person_and_large_across_people(photo, descriptor):
+    (n3, l3), (s3, ls3), (n1, l1) = photo("003"), photo("003", "smile"), photo("001")
+    d3 = descriptor(n3, l3)
+    assert identity_distance(d3, descriptor(s3, ls3)) < SAME_PERSON
+    assert identity_distance(d3, descriptor(n1, l1)) > SAME_PERSON
+
+
+def test_smile_strength_is_zero_for_no_change_and_positive_for_a_smile(photo):
+    _, neutral = photo("126")
+    _, smile = photo("126", "smile")
+    assert smile_strength(neutral, neutral) == pytest.approx(0.0, abs=1e-9)
+    assert smile_strength(neutral, smile) > 0.0
+
+
+@pytest.mark.parametrize("which, people, drawn", [("london", 3, 4), ("london_full", 72, 20)])
+def test_pairs_are_reproducible_and_of_different_people(which, people, drawn, request):
+    data = Dataset.open(request.getfixturevalue(which))
+    assert len(data.ids) == people
+    p1, p2 = data.pairs(drawn, seed=3), data.pairs(drawn, seed=3)
+    assert p1 == p2 and len(set(p1)) == drawn and all(a != b for a, b in p1)
+    assert data.pairs(drawn, seed=4) != p1
+    assert len(data.pairs(0, seed=0)) == people * (people - 1)
+
+
+def test_teeth_tell_smiles_showing_teeth_from_closed_mouths(photo):
+    showing = [teeth(*photo(face_id, "smile"), DLIB68) for face_id in ("126", "107")]
+    closed = [teeth(*photo(face_id, kind), DLIB68) for face_id, kind in (("126", "neutral"), ("003", "smile"), ("001", "smile"))]
+    assert min(showing) >= TEETH_SHOWN > max(closed), (showing, closed)
+
+
+def test_teeth_covered_with_lip_colour_stop_counting(photo):
+    image, landmarks = photo("107", "smile")
+    inner, outer = (np.zeros(image.shape[:2], np.uint8) for _ in range(2))
+    cv2.fillPoly(inner, [np.round(landmarks[list(DLIB68.mouth_inner)]).astype(np.int32)], 1)
+    cv2.fillPoly(outer, [np.round(landmarks[list(DLIB68.mouth_outer)]).astype(np.int32)], 1)
+    lip_colour = np.median(image[(outer > 0) & (inner == 0)], axis=0)
+    left = (inner > 0) & (np.arange(image.shape[1]) < landmarks[62, 0])[None, :]
+    before = teeth(image, landmarks, DLIB68)
+    half, whole = image.copy(), image.copy()
+    half[left] = lip_colour
+    whole[inner > 0] = lip_colour
+    assert before >= TEETH_SHOWN
+    assert 0 < teeth(half, landmarks, DLIB68) < 0.8 * before  # a broad smile shows teeth on both sides
+    assert teeth(whole, landmarks, DLIB68) == 0
+
+
+def test_summary_counts_failures_and_never_drops_them():
+    def row(method, pair, mouth, failed="", smile=0.05):
+        score = "" if failed else mouth
+        return {
+            "source": pair[0],
+            "target": pair[1],
+            "method": method,
+            "target_smile": smile,
+            "failed": failed,
+            "overall": score,
+            "mouth": score,
+            "eyes_brows": score,
+            "identity": "" if failed else 0.3 + mouth * 10,
+            "teeth": "" if failed else 0.0,
+            "source_teeth": 0.0,
+        }
+
+    rows = [
+        row("global", "ab", 0.02, smile=0.3),
+        row("global", "ac", 0.0, failed="no face found"),
+        row("global", "ad", 0.04),
+        row("e+md", "ab", 0.01, smile=0.3),
+        row("e+md", "ac", 0.03),
+        row("e+md", "ad", 0.035),
+    ]
+    g, e = summarise(rows)
+    assert g["pairs"] == 3 and g["failed"] == 1 and e["failed"] == 0
+    assert g["overall_mean"] == pytest.approx(0.03) and g["same_person"] == pytest.approx(0.5)
+    # paired with global only where both succeeded: (0.01 - 0.02 + 0.035 - 0.04) / 2
+    assert e["mouth_vs_baseline"] == pytest.approx(-0.0075) and g["mouth_vs_baseline"] == 0
+    assert summarise(rows, strong_only=True)[0]["pairs"] == 1
+
+
+def scored(method, pair, mouth, identity=0.3, variant="", failed="", teeth=0.0, source_teeth=0.0):
+    """A row of pairs.csv with the scores that matter here."""
+    return dict(
+        source=pair[0],
+        target=pair[1],
+        method=method,
+        target_smile=0.1,
+        failed=failed,
+        overall=mouth,
+        mouth=mouth,
+        eyes_brows=mouth,
+        identity=identity,
+        teeth="" if failed else teeth,
+        source_teeth=source_teeth,
+        variant=variant,
+    )
+
+
+def test_summary_counts_teeth_against_the_source():
+    def row(method, pair, teeth, source_teeth, failed=""):
+        return scored(method, pair, 0.02, failed=failed, teeth=teeth, source_teeth=source_teeth)
+
+    shows, closed = 2 * TEETH_SHOWN, 0.0
+    rows = [
+        row("e+md", "ab", shows, shows),
+        row("e+md", "ac", closed, shows),
+        row("e+md", "ad", shows, shows),
+        row("e+md", "ae", "", shows, failed="no face found"),  # failures are counted apart
+        row("e+md", "ba", shows, closed),
+        row("e+md", "bc", closed, closed),
+        row("global", "ab", closed, shows),
+        row("global", "ba", closed, closed),
+    ]
+    e, g = summarise(rows)
+    assert (e["teeth_sources"], e["teeth_kept"]) == (3, pytest.approx(2 / 3))
+    assert (e["closed_sources"], e["teeth_invented"]) == (2, pytest.approx(1 / 2))
+    assert (g["teeth_sources"], g["teeth_kept"], g["closed_sources"], g["teeth_invented"]) == (1, 0.0, 1, 0.0)
+    assert e["failed"] == 1
+
+
+def test_variants_pair_with_global_in_their_own_variant_and_with_the_paper():
+    rows = [
+        scored("global", "ab", 0.04, 0.30),
+        scored("elastic", "ab", 0.05, 0.31),
+        scored("global", "ac", 0.02, 0.20),
+        scored("elastic", "ac", 0.02, 0.25),
+        scored("global [rbf]", "ab", 0.03, 0.28, " [rbf]"),
+        scored("elastic [rbf]", "ab", 0.01, 0.29, " [rbf]"),
+        scored("global [rbf]", "ac", 0.01, 0.20, " [rbf]"),
+        scored("elastic [rbf]", "ac", 0.0, 0.0, " [rbf]", failed="no face found"),
+    ]
+    by_method = {s["method"]: s for s in summarise(rows)}
+    assert by_method["elastic"]["mouth_vs_baseline"] == pytest.approx((0.01 + 0.0) / 2)
+    assert by_method["elastic [rbf]"]["mouth_vs_baseline"] == pytest.approx(0.01 - 0.03)  # ac failed: left out
+    lines = {c["compared"]: c for c in contrasts(rows)}
+    assert list(lines) == ["elastic - global", "elastic [rbf] - global [rbf]", "global [rbf] - global", "elastic [rbf] - elastic"]
+    assert lines["elastic - global"]["pairs"] == 2 and lines["elastic - global"]["mouth_mean"] == pytest.approx(0.005)
+    assert lines["elastic [rbf] - global [rbf]"]["pairs"] == 1 and lines["elastic [rbf] - global [rbf]"]["mouth_mean"] == pytest.approx(
+        -0.02
+    )
+    g = lines["global [rbf] - global"]
+    assert g["pairs"] == 2 and g["mouth_mean"] == pytest.approx((-0.01 - 0.01) / 2) and g["identity_mean"] == pytest.approx(-0.01)
+    assert lines["elastic [rbf] - elastic"]["pairs"] == 1 and lines["elastic [rbf] - elastic"]["mouth_mean"] == pytest.approx(-0.04)
+    assert "| global [rbf] - global | 2 | -0.0100 ± 0.0000 |" in contrast_table(contrasts(rows))
+
+
+def test_variants_are_every_combination_named_after_their_options():
+    chosen = variants(("similarity", "rbf"), ("mesh", "tps"), (1.0,))
+    assert [label for label, _ in chosen] == ["", " [tps]", " [rbf]", " [rbf, tps]"]
+    said = lambda o: (o.global_warp, o.image_warp, o.strength, o.retarget)  # noqa: E731
+    assert said(chosen[3][1]) == ("rbf", "tps", 1.0, True)
+    assert [label for label, _ in variants(strengths=(0.5, 1.0))] == ["", " [S=0.5]"]
+    default = said(chosen[0][1])
+    retargets = [(label, said(o)) for label, o in variants(retargets=(False, True))]
+    assert retargets == [("", default), (" [no retarget]", default[:3] + (False,))]

@@ -1,0 +1,136 @@
+"""The web page in a real browser (headless Chromium): clone the sample photos, see the result; a photo with no face says so."""
+
+import numpy as np
+import pytest
+from browser import chromium
+from PIL import Image
+from serving import Server
+
+from exprclone import data as samples
+
+pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -m 'not slow' leaves these out
+
+#: milliseconds the page may take for a clone (the first one starts a worker's caches).
+CLONE_TIMEOUT = 60_000
+
+
+@pytest.fixture(scope="module")
+def server():
+    running = Server("--workers", "1")
+    yield running.url
+    running.stop()
+
+
+@pytest.fixture(scope="module")
+def page(server):
+    with chromium() as page:
+        page.goto(server)
+        yield page
+
+
+def set_photos(page, target):
+    page.set_input_files("input[type=file][name=source_neutral]", str(samples.path("126")))
+    page.set_input_files("input[type=file][name=source_expression]", str(samples.path("126", "smile")))
+    page.set_input_files("input[type=file][name=target_neutral]", str(target))
+
+
+def test_clone_shows_the_result_at_the_target_size(page):
+    set_photos(page, samples.path("003"))
+    page.click("#clone")
+    page.wait_for_function("document.querySelector('img#result').naturalWidth > 0", timeout=CLONE_TIMEOUT)
+    size = page.evaluate("[document.querySelector('img#result').naturalWidth, document.querySelector('img#result').naturalHeight]")
+    assert size == [1350, 1350]
+    assert page.is_hidden("#error")
+    assert "e+md" in page.text_content("#result-caption") and "λk" in page.text_content("#result-caption")
+    assert page.get_attribute("#download-png", "href").startswith("data:image/png;base64,")
+    page.click("#toggle")  # before/after: the target's own photo
+    assert page.get_attribute("img#result", "src").startswith("blob:")
+
+
+def test_swapped_source_photos_are_warned_of_beside_the_result(page):
+    set_photos(page, samples.path("003"))
+    page.set_input_files("input[type=file][name=source_neutral]", str(samples.path("126", "smile")))
+    page.set_input_files("input[type=file][name=source_expression]", str(samples.path("126")))
+    page.select_option("#method", "elastic")
+    page.click("#clone")
+    page.wait_for_function("document.querySelector('#busy').hidden", timeout=CLONE_TIMEOUT)
+    assert page.is_hidden("#error") and page.is_visible("#result-box")
+    assert page.text_content("#warning") == (
+        "source neutral: looks more expressive than source_expression; are the source's two photos swapped?"
+    )
+    set_photos(page, samples.path("003"))  # the right order: the warning goes
+    page.click("#clone")
+    page.wait_for_function("document.querySelector('#busy').hidden", timeout=CLONE_TIMEOUT)
+    assert page.is_hidden("#warning")
+    page.select_option("#method", "e+md")
+
+
+def test_landmarks_are_drawn_over_a_chosen_photo(page):
+    page.set_input_files("input[type=file][name=target_neutral]", str(samples.path("003")))
+    page.wait_for_function(
+        """() => { const c = document.querySelector('[data-field=target_neutral] canvas');
+                   const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+                   for (let i = 0; i < d.length; i += 4) if (d[i + 1] > 200 && d[i] < 60 && d[i + 3] > 0) return true; return false; }""",
+        timeout=CLONE_TIMEOUT,
+    )
+
+
+def test_a_photo_without_a_face_is_named_in_the_error(page, tmp_path):
+    blank = tmp_path / "blank.png"
+    Image.fromarray(np.full((400, 400, 3), 128, np.uint8)).save(blank)
+    set_photos(page, blank)
+    page.click("#clone")
+    page.wait_for_function("document.querySelector('#busy').hidden", timeout=CLONE_TIMEOUT)  # the answer came, and the page is usable again
+    assert page.is_visible("#error") and page.is_enabled("#clone")
+    assert page.text_content("#error").startswith("target neutral: no face found")
+
+
+def test_the_transfer_controls_reach_the_clone(page):
+    set_photos(page, samples.path("003"))
+    page.select_option("#global-warp", "rbf")
+    page.select_option("#image-warp", "tps")
+    page.fill("#strength", "0.5")
+    page.uncheck(".region[value=eyes]")
+    page.uncheck("#retarget")
+    page.select_option("#landmarker", "mesh")
+    page.evaluate("document.querySelector('img#result').removeAttribute('src')")
+    page.click("#clone")
+    page.wait_for_function(
+        "document.querySelector('#busy').hidden && document.querySelector('img#result').naturalWidth > 0", timeout=CLONE_TIMEOUT
+    )
+    caption = page.text_content("#result-caption")
+    assert "global warp rbf" in caption and "tps" in caption and "strength 0.5" in caption and "only mouth, brows" in caption, caption
+    assert "no retarget" in caption and "mesh landmarks" in caption, caption
+    page.select_option("#landmarker", "dlib")
+    page.check(".region[value=eyes]")
+    page.check("#retarget")
+    page.select_option("#global-warp", "")
+    page.select_option("#image-warp", "mesh")
+    page.fill("#strength", "1")
+
+
+def test_compare_draws_figure_19(page):
+    set_photos(page, samples.path("003"))
+    page.select_option("#figure", "19")
+    page.evaluate("document.querySelector('#sheet').removeAttribute('src')")
+    page.click("#compare")
+    page.wait_for_function("document.querySelector('#sheet').naturalWidth > 0", timeout=CLONE_TIMEOUT)
+    assert page.evaluate("document.querySelector('#sheet').naturalWidth") == 6 * 320
+    assert "Figs. 19-21" in page.text_content("#sheet-caption")
+
+
+def test_a_built_in_expression_needs_one_photo(page):
+    page.reload()
+    page.check("#source-builtin")
+    assert page.is_hidden("[data-field=source_neutral]") and page.is_hidden("[data-field=source_expression]")
+    page.wait_for_function("document.querySelectorAll('#expression option').length >= 2", timeout=CLONE_TIMEOUT)
+    page.select_option("#expression", "smile")
+    page.set_input_files("input[type=file][name=target_neutral]", str(samples.path("001")))
+    page.click("#clone")
+    page.wait_for_function(
+        "document.querySelector('#busy').hidden && document.querySelector('img#result').naturalWidth > 0", timeout=CLONE_TIMEOUT
+    )
+    assert page.is_hidden("#error"), page.text_content("#error")
+    assert "expression smile" in page.text_content("#result-caption")
+    page.check("#source-photos")
+    assert page.is_visible("[data-field=source_neutral]") and page.is_disabled("#expression")

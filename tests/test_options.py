@@ -1,0 +1,131 @@
+"""The options, declared once (:mod:`exprclone.options`): checked as they are made, and the same value from every surface.
+
+Every surface's adapter is made from the same specs, so the same choices given as Python keywords, command line
+words, form fields, a manifest's cells or a live message's JSON must give the same value.
+"""
+
+import argparse
+import json
+
+import pytest
+from fastapi import Depends, FastAPI
+from fastapi.testclient import TestClient
+
+from exprclone.cli.inputs import add_options, options_of
+from exprclone.errors import ExprCloneError
+from exprclone.options import RENDER, Driving, Framing, Options, from_json, from_text, key, names, offered, spec
+from exprclone.server.app import add_error_answers
+from exprclone.server.forms import Asked, options_form
+
+#: choices a user may make, each as its value and as the text a command line, a form or a manifest gives.
+CHOICES = {
+    "method": ("global+eri", "global+eri"),
+    "lambda_k": (0.5, "0.5"),
+    "mouth": (False, "false"),
+    "landmarker": ("mesh", "mesh"),
+    "global_warp": ("rbf", "rbf"),
+    "image_warp": ("tps", "tps"),
+    "strength": (1.5, "1.5"),
+    "only": (("mouth", "eyes"), "mouth,eyes"),
+    "retarget": (False, "false"),
+    "neutral_frame": (12, "12"),
+    "lambda_per_frame": (True, "true"),
+    "smooth": (False, "false"),
+    "head_motion": (True, "true"),
+    "size": (256, "256"),
+    "side_by_side": (True, "true"),
+}
+CLASSES = (Options, Driving, Framing)
+
+
+def same(a, b) -> bool:
+    return all(getattr(a, n) == getattr(b, n) for n in names(type(a)) if n not in ("global_landmarks", "eigenfaces", "layout"))
+
+
+def words(cls, chosen) -> list[str]:
+    """The command line's words for ``chosen`` options of ``cls``: a flag alone for a switch."""
+    out = []
+    for name in chosen:
+        option, (value, text) = spec(cls, name), CHOICES[name]
+        flag = option.flag or f"--{key(cls, name).replace('_', '-')}"
+        if option.kind is bool:
+            out += [flag] if value != getattr(cls(), name) else []
+        else:
+            out += [flag, text]
+    return out
+
+
+@pytest.mark.parametrize("cls", CLASSES, ids=lambda c: c.__name__)
+def test_every_surface_gives_the_same_value(cls):
+    parser = argparse.ArgumentParser()
+    add_options(parser, cls)
+    cli = offered(cls, "cli")
+    assert same(
+        options_of(parser.parse_args(words(cls, [n for n in cli if n in CHOICES])), cls),
+        cls(**{n: CHOICES[n][0] for n in cli if n in CHOICES}),
+    )
+    manifest = offered(cls, "manifest")
+    assert same(from_text(cls, {key(cls, n): CHOICES[n][1] for n in manifest}), cls(**{n: CHOICES[n][0] for n in manifest}))
+    live = offered(cls, "json")
+    message = json.loads(json.dumps({key(cls, n): list(CHOICES[n][0]) if n == "only" else CHOICES[n][0] for n in live}))
+    assert same(from_json(cls, message), cls(**{n: CHOICES[n][0] for n in live}))
+    app = FastAPI()
+    add_error_answers(app)
+
+    @app.post("/form")
+    async def form(asked: Asked = Depends(options_form(cls))) -> dict[str, list[str]]:
+        assert same(asked.options, cls(**{n: CHOICES[n][0] for n in asked.given}))
+        return {"given": sorted(asked.given)}
+
+    fields = [n for n in offered(cls, "form") if n in CHOICES]
+    answer = TestClient(app).post("/form", data={key(cls, n): CHOICES[n][1] for n in fields})
+    assert answer.status_code == 200 and answer.json()["given"] == sorted(fields)
+
+
+@pytest.mark.parametrize(
+    "change, subject",
+    [
+        ({"method": "emd"}, "method"),
+        ({"lambda_k": -1}, "lambda"),
+        ({"lambda_k": True}, "lambda"),
+        ({"strength": 2.5}, "strength"),
+        ({"only": "mouth,nose"}, "only"),
+        ({"mouth": "yes"}, "mouth"),
+        ({"landmarker": "hog"}, "landmarker"),
+        ({"global_warp": "affine"}, "global_warp"),
+        ({"image_warp": "bilinear"}, "image_warp"),
+        ({"retarget": 1}, "retarget"),
+        ({"global_warp": "rbf", "global_landmarks": [[0.0, 0.0]] * 68}, "global_landmarks"),
+        ({"colour": True}, "colour"),
+    ],
+)
+def test_a_bad_option_is_refused_by_name(change, subject):
+    with pytest.raises(ExprCloneError) as refused:
+        Options.of(None, change)
+    assert refused.value.subject == subject and "\n" not in str(refused.value)
+
+
+def test_values_are_kept_as_the_options_hold_them():
+    assert Options(strength=1).strength == 1.0 and isinstance(Options(strength=1).strength, float)
+    assert Options(only="eyes, mouth").only == ("eyes", "mouth")
+    assert Options(only=("mouth", "eyes", "brows")).only is None  # every region: the whole face
+    assert Driving(neutral_frame="first").neutral_frame == "first" and Framing(size=None).size is None
+    for cls, bad in ((Driving, {"neutral_frame": -1}), (Framing, {"size": 8})):
+        with pytest.raises(ExprCloneError):
+            cls(**bad)
+
+
+def test_text_and_json_say_which_field_is_wrong():
+    with pytest.raises(ExprCloneError, match=r"^strength: expected a number, got 'lots'$"):
+        Options.from_text({"strength": "lots"})
+    with pytest.raises(ExprCloneError, match=r"^lambda: must be 'auto' or a number >= 0, got 'x'$"):
+        Options.from_text({"lambda": "x"})
+    with pytest.raises(ExprCloneError, match=r"^only: must be a string or a list, got 3$"):
+        Options.from_json({"only": 3})
+    assert Options.from_text({"method": ""}).method == Options().method  # an empty cell is no choice
+    assert Options.from_text({"lambda": "inf"}).lambda_k == float("inf")
+
+
+def test_the_render_options_are_the_cheap_ones():
+    """What a prepared clone renders again with: nothing its preparation (landmarks, lambda search, ERI inputs) uses."""
+    assert set(RENDER) == {"mouth", "strength", "only"} and set(RENDER) <= set(names(Options))
