@@ -10,10 +10,15 @@ from exprclone.landmarks.layout import DLIB68
 
 
 def expression_ratio(neutral_warped, expression_warped, mask, iod, target=None, exempt=None):
-    """The ERI of two photos already in one geometry, made by the production path's own functions on the grid shrunk by
-    :func:`eri.filter_step` (:func:`exprclone.details.stage.ratio_image` makes the same from photos shrunk in their own
-    frames and warped): the neutral photo's channels (:func:`eri.neutral_channels`), the target's skin trust, then
-    :func:`eri.ratio_on_grid`."""
+    """The ERI's luma ratio of two photos already in one geometry (:func:`ratio_and_tint`)."""
+    return ratio_and_tint(neutral_warped, expression_warped, mask, iod, target, exempt)[..., eri.RATIO]
+
+
+def ratio_and_tint(neutral_warped, expression_warped, mask, iod, target=None, exempt=None, still=None):
+    """The ERI and its tint of two photos already in one geometry, ``(H, W, 3)``, made by the production path's own
+    functions on the grid shrunk by :func:`eri.filter_step` (:func:`exprclone.details.stage.ratio_image` makes the same
+    from photos shrunk in their own frames and warped): the neutral photo's channels (:func:`eri.neutral_channels`), the
+    target's skin trust, then :func:`eri.ratio_on_grid` (``still``: the face the expression leaves still)."""
     step = min(eri.filter_step(iod), *mask.shape)
     neutral, expression = (coarse.grid_pixels(image, iod, step) for image in (neutral_warped, expression_warped))
     small_mask, sigma = raster.shrink(mask, step), eri.FILTER_SIGMA * iod / step
@@ -21,7 +26,8 @@ def expression_ratio(neutral_warped, expression_warped, mask, iod, target=None, 
     channels, hue = eri.neutral_channels(neutral, face, sigma)
     trust = None if target is None else gate.trust(gate.colour(coarse.grid_pixels(target, iod, step, detail=False), sigma), face)
     lips = None if exempt is None else raster.shrink(exempt, step)
-    small = eri.ratio_on_grid(channels, expression, trust, small_mask, iod / step, lips, hue, blocks=step > 1)
+    resting = None if still is None else raster.shrink(still, step)
+    small = eri.ratio_on_grid(channels, expression, trust, small_mask, iod / step, lips, hue, step > 1, resting)
     return raster.enlarge(small, mask.shape, step)
 
 
@@ -240,3 +246,63 @@ def test_the_target_is_shaded_only_on_its_skin(pair):
     reach = int(sigma)
     hair = cv2.erode(dark, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * reach + 1, 2 * reach + 1)))[band] > 0
     assert hair.mean() > 0.5 and np.abs(with_target[band][hair] - 1).max() < 0.01
+
+
+def cheek_patch(target, lm, iod):
+    """A soft disc on the right cheek, where a smile's fold darkens the skin, ``(H, W)`` float32 in [0, 1]."""
+    patch = np.zeros(target.shape[:2], np.float32)
+    centre = ((lm[2] + lm[31]) / 2 + lm[48]) / 2
+    cv2.circle(patch, tuple(int(v) for v in centre), int(0.18 * iod), 1.0, -1)
+    return cv2.GaussianBlur(patch, (0, 0), 0.05 * iod)
+
+
+def shaded(image, patch, gains):
+    """``image`` multiplied by ``gains`` (R, G, B) inside ``patch``, 1 outside."""
+    factor = 1 + patch[..., None] * (np.array(gains, np.float32) - 1)
+    return np.clip(image * factor + 0.5, 0, 255).astype(np.uint8)
+
+
+def test_a_warm_shadow_gives_a_warm_tint_and_a_grey_one_none(pair):
+    """The tint carries how the source's chromaticity changes as its skin darkens: a fold darkened more in G and B
+    than in R (as real skin's shadows are) gives a positive log R/G shift there, one darkened alike none; the luma
+    ratio is much the same in both."""
+    (_, _, target), (_, _, lm) = pair
+    iod = align.interocular(lm, DLIB68)
+    mesh = piecewise.build_mesh(lm, target.shape, DLIB68)
+    mask = eri.ratio_mask(target.shape[:2], lm, mesh.points[mesh.forehead], DLIB68)
+    patch = cheek_patch(target, lm, iod)
+    inside = patch > 0.9
+    warm_gains = np.float32([0.91, 0.87, 0.86])  # as the London Set's real smiles darken and warm a fold
+    skin = np.median(target[inside], axis=0).astype(np.float32)
+    grey_gain = float(skin * warm_gains @ raster.LUMA / (skin @ raster.LUMA))  # the warm shadow's luma, on this skin
+    warm, grey = (ratio_and_tint(target, shaded(target, patch, g), mask, iod) for g in (warm_gains, (grey_gain,) * 3))
+    assert abs(np.median(warm[..., 0][inside]) - np.median(grey[..., 0][inside])) < 0.01
+    assert np.median(warm[..., 1][inside]) > 0.02 and np.median(warm[..., 2][inside]) < 0.0  # redder, less blue
+    assert np.abs(grey[..., 1:][inside]).max() < 0.01
+
+
+def test_a_change_of_white_balance_is_no_tint(pair):
+    """A colour cast over the whole expression photo (the light's colour, white balance) is taken out of the tint,
+    measured where the expression leaves the skin still; a grey fold stays grey."""
+    (_, _, target), (_, _, lm) = pair
+    iod = align.interocular(lm, DLIB68)
+    mesh = piecewise.build_mesh(lm, target.shape, DLIB68)
+    mask = eri.ratio_mask(target.shape[:2], lm, mesh.points[mesh.forehead], DLIB68)
+    patch = cheek_patch(target, lm, iod)
+    rows = np.arange(target.shape[0], dtype=np.float32)[:, None]
+    moved = np.broadcast_to(np.clip((rows - lm[28, 1]) / (0.3 * iod), 0, 1), patch.shape)  # below the nose's bridge
+    cast = shaded(shaded(target, np.ones_like(patch), (1.06, 1.0, 0.94)), patch, (0.82, 0.82, 0.82))
+    made = ratio_and_tint(target, cast, mask * moved, iod, still=mask * (1 - moved))
+    assert np.abs(made[..., 1:][patch > 0.9]).max() < 0.01
+    assert np.median(made[..., 0][patch > 0.9]) < 0.9  # the fold is there
+
+
+def test_the_tint_shifts_chromaticity_and_keeps_the_lumas_gain():
+    skin = np.full((8, 8, 3), (200, 150, 120), np.uint8)
+    gain, tint = np.full((8, 8), 0.8, np.float32), np.tile(np.float32([0.05, -0.03]), (8, 8, 1))
+    out = eri.apply_details(skin, gain, 1.0, tint).astype(np.float64)
+    luma = out[0, 0] @ raster.LUMA / (np.float64(skin[0, 0]) @ raster.LUMA)
+    assert abs(luma - 0.8) < 0.01
+    before, after = np.log(skin[0, 0] / skin[0, 0, 1]), np.log(out[0, 0] / out[0, 0, 1])
+    assert np.allclose(after[[0, 2]] - before[[0, 2]], [0.05, -0.03], atol=0.01)
+    assert np.array_equal(eri.apply_details(skin, gain, 0.0, tint), skin)  # M = 0: neither shading nor tint

@@ -7,7 +7,16 @@ import pytest
 from exprclone.evaluation.london import Dataset
 from exprclone.evaluation.report import contrast_table
 from exprclone.evaluation.runner import smile_strength, variants
-from exprclone.evaluation.scores import SAME_PERSON, TEETH_SHOWN, FaceDescriptor, identity_distance, landmark_error, teeth
+from exprclone.evaluation.scores import (
+    GREY_WARMTH,
+    SAME_PERSON,
+    TEETH_SHOWN,
+    FaceDescriptor,
+    identity_distance,
+    landmark_error,
+    teeth,
+    warmth,
+)
 from exprclone.evaluation.statistics import contrasts, summarise
 from exprclone.landmarks import align
 from exprclone.landmarks.layout import DLIB68
@@ -199,3 +208,30 @@ def test_variants_are_every_combination_named_after_their_options():
     default = said(chosen[0][1])
     retargets = [(label, said(o)) for label, o in variants(retargets=(False, True))]
     assert retargets == [("", default), (" [no retarget]", default[:3] + (False,))]
+
+
+def darkened(image, landmarks, gains):
+    """``image`` with a fold darkened by ``gains`` (R, G, B) on both cheeks, as a smile's nasolabial folds."""
+    fold = np.zeros(image.shape[:2], np.float32)
+    iod = align.interocular(landmarks, DLIB68)
+    for corner, wing in ((48, 31), (54, 35)):
+        cv2.line(fold, tuple(int(v) for v in landmarks[wing]), tuple(int(v) for v in landmarks[corner]), 1.0, int(0.12 * iod))
+    fold = cv2.GaussianBlur(fold, (0, 0), 0.04 * iod)[..., None]
+    return np.clip(image * (1 + fold * (np.float32(gains) - 1)) + 0.5, 0, 255).astype(np.uint8)
+
+
+def test_warmth_tells_a_dimmed_fold_from_a_warm_one(photo):
+    """A fold that dims R, G and B alike keeps the chroma-to-lightness proportion (1); one whose G and B fall further
+    than R, as real skin's do, measures warmer; a photo with no fold has nothing to measure."""
+    neutral, points = photo("003")
+    grey = warmth(darkened(neutral, points, (0.75, 0.75, 0.75)), points, neutral, points, DLIB68)
+    warm = warmth(darkened(neutral, points, (0.82, 0.74, 0.72)), points, neutral, points, DLIB68)
+    assert abs(grey - 1.0) < 0.03 and warm > GREY_WARMTH + 0.05
+    assert np.isnan(warmth(neutral, points, neutral, points, DLIB68))
+
+
+def test_real_smiles_have_warm_shadows(photo):
+    """The packaged people's real smiles, against their neutral photos: warmer than a dimmed copy would be."""
+    found = [warmth(*photo(person, "smile"), *photo(person), DLIB68) for person in ("001", "003", "126")]
+    measured = [w for w in found if not np.isnan(w)]
+    assert len(measured) >= 2 and min(measured) > GREY_WARMTH, found

@@ -59,9 +59,10 @@ def test_strength_scales_motion_and_the_eri_in_the_log_domain(pair):
     (sn, se, tn), (sn_lm, se_lm, tn_lm) = images, landmarks
     cloner = Cloner(sn, sn_lm, tn, tn_lm)
     rendered, photo = cloner.fi(whole.landmarks["global"], cloner.transfer), cloner.prepare(se, se_lm, ("global+eri",)).photo
-    (eri, box), (eri_half, box_half) = (cloner.ratio(rendered, photo, Cloner(sn, sn_lm, tn, tn_lm, strength=s).transfer) for s in (1, 0.5))
-    assert box == box_half and (eri != 1).mean() > 0.05
-    assert np.allclose(np.log(eri_half), 0.5 * np.log(eri), atol=1e-5)
+    whole_eri, half_eri = (cloner.ratio(rendered, photo, Cloner(sn, sn_lm, tn, tn_lm, strength=s).transfer) for s in (1, 0.5))
+    assert whole_eri.box == half_eri.box and (whole_eri.eri != 1).mean() > 0.05
+    assert np.allclose(np.log(half_eri.eri), 0.5 * np.log(whole_eri.eri), atol=1e-5)
+    assert np.abs(whole_eri.tint).max() > 0.005 and np.allclose(half_eri.tint, 0.5 * whole_eri.tint, atol=1e-6)  # its tint too
 
 
 def test_only_the_mouth_leaves_the_eyes_and_brows_where_they_are(pair):

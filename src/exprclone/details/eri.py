@@ -19,6 +19,16 @@ be 1, which removes a change of exposure and a light that moved across the face.
 
 Only expression shading: the ratio also counts only where the expression moves the skin
 and all three photos show the same skin (:mod:`exprclone.details.gate`, the gate's weights).
+
+Shadows the colour of skin (ours): a ratio of lumas dims R, G and B alike, which keeps the
+skin's chroma in proportion to its lightness; real skin's shadows are warmer and more
+saturated than that (light scattered under the skin), and a fold dimmed alike reads as a
+grey bruise. So the ERI also carries its *tint*: how the source's chromaticity
+(``log R/G``, ``log B/G``) changes between its two photos where the ratio counts, filtered
+and weighted as the ratio is, a change of the light's colour (of white balance: the
+chromaticity's trend over the face the expression does not move) taken out. Applied with the ratio (:func:`apply_details`), it shifts the
+target's chromaticity by as much at the same lightness: the source's skin's colour, a
+ratio's numerator and denominator alike, does not come with it.
 """
 
 from __future__ import annotations
@@ -143,10 +153,19 @@ def light_trend(log_ratio: np.ndarray, weight: np.ndarray, iterations: int = 8) 
     return (coef[0] + coef[1] * np.arange(w) / w + coef[2] * np.arange(h)[:, None] / h).astype(np.float32)
 
 
+#: the largest shift of the chromaticity (``log R/G``, ``log B/G``) the tint carries: a stronger change between the
+#: source's two photos is a change of material (make-up, a flush of the whole face), not a shadow's colour.
+TINT_LIMIT = 0.15
+#: the fewest pixels of still skin whose chromaticity's change is taken for the light's colour (:func:`ratio_on_grid`).
+MIN_STILL = 16
+#: the channels of the ERI on its grid (:func:`ratio_on_grid`): the luma ratio, then its tint (two).
+RATIO, TINT = 0, slice(1, 3)
+
 #: the channels of the source's neutral photo as the ERI warps it (:func:`neutral_channels`): its luma and detail
 #: energy (:attr:`exprclone.details.coarse.Shrunk.pixels`; the texture test is made after the warp, as on the expression
-#: photo), its chromaticity (two) and its skin trust (:func:`exprclone.details.gate.trust`).
-N_LUMA, N_ENERGY, N_CHROMA, N_SKIN = 0, 1, slice(2, 4), 4
+#: photo), its chromaticity smoothed (two) as the colour tests take it, its skin trust
+#: (:func:`exprclone.details.gate.trust`), and its chromaticity as it is (two), from which the tint is taken.
+N_LUMA, N_ENERGY, N_CHROMA, N_SKIN, N_TINT = 0, 1, slice(2, 4), 4, slice(5, 7)
 
 
 def neutral_channels(pixels: np.ndarray, face: np.ndarray, sigma: float) -> tuple[np.ndarray, gate.Fit]:
@@ -171,16 +190,23 @@ def neutral_channels(pixels: np.ndarray, face: np.ndarray, sigma: float) -> tupl
 
     Returns
     -------
-    channels : ndarray of shape (h, w, 5), float32
-        :data:`N_LUMA`, :data:`N_ENERGY`, :data:`N_CHROMA`, :data:`N_SKIN`.
+    channels : ndarray of shape (h, w, 7), float32
+        :data:`N_LUMA`, :data:`N_ENERGY`, :data:`N_CHROMA`, :data:`N_SKIN`, :data:`N_TINT`.
     hue : shading.Fit
         Its chromaticity's model (:func:`exprclone.details.gate.skin`).
     """
     colour = gate.colour(pixels, sigma)
-    channels = np.empty(pixels.shape[:2] + (5,), np.float32)
+    channels = np.empty(pixels.shape[:2] + (7,), np.float32)
     channels[..., N_LUMA], channels[..., N_ENERGY] = pixels[..., coarse.LUMA], pixels[..., coarse.ENERGY]
     channels[..., N_CHROMA], channels[..., N_SKIN] = colour[..., :2], gate.trust(colour, face)
+    channels[..., N_TINT] = chromaticity(pixels)
     return channels, gate.robust_gaussian(colour[..., :2], raster.evenly(face))
+
+
+def chromaticity(pixels: np.ndarray) -> np.ndarray:
+    """``(log R/G, log B/G)`` of block means (``(h, w, >=3)``, R, G and B first), ``(h, w, 2)`` float32, not smoothed."""
+    rgb = pixels[..., :3] + raster.EPS
+    return np.log(rgb[..., [0, 2]] / rgb[..., 1:2]).astype(np.float32)
 
 
 def ratio_on_grid(
@@ -192,6 +218,7 @@ def ratio_on_grid(
     exempt: np.ndarray | None = None,
     hue: gate.Fit = None,
     blocks: bool = True,
+    still: np.ndarray | None = None,
 ) -> np.ndarray:
     """The ERI on the shrunk grid, from the source's photos there.
 
@@ -204,7 +231,7 @@ def ratio_on_grid(
 
     Parameters
     ----------
-    neutral : ndarray of shape (h, w, 5)
+    neutral : ndarray of shape (h, w, 7)
         The source's neutral photo in the target's final geometry, measured on its own grid (:func:`neutral_channels`).
     expression : ndarray of shape (h, w, 5)
         The expression photo's block means in that geometry (:attr:`exprclone.details.coarse.Shrunk.pixels`).
@@ -218,11 +245,16 @@ def ratio_on_grid(
         The neutral photo's chromaticity (:func:`neutral_channels`).
     blocks : bool
         Whether the grid's pixels are blocks of several, to be enlarged (:data:`GRID_VARIANCE`), or the photo's own.
+    still : ndarray of shape (h, w), optional
+        The face where the expression does not move the skin: a change of the chromaticity there is the light's colour
+        (white balance), taken out of the tint (its median there); none is taken out if None.
 
     Returns
     -------
-    ndarray of shape (h, w), float32
-        ``1 + weight (ratio - 1)``: 1 where nothing is trusted.
+    ndarray of shape (h, w, 3), float32
+        :data:`RATIO`: ``1 + weight (ratio - 1)``, 1 where nothing is trusted; :data:`TINT`: ``weight tint``, the
+        shift of the chromaticity between the source's photos filtered over the same pixels, its trend over the face
+        taken out (the module's notes), 0 where nothing is trusted.
     """
     sigma = FILTER_SIGMA * iod
     y_expression = expression[..., coarse.LUMA]
@@ -234,17 +266,33 @@ def ratio_on_grid(
     trust = neutral[..., N_SKIN] if target is None else neutral[..., N_SKIN] * target
     weight = face * gate.skin(colour, neutral[..., N_CHROMA], trust, face, exempt, hue)
     sigma = max(np.sqrt(max(sigma * sigma - (GRID_VARIANCE if blocks else 0.0), 0.0)), 0.5)
-    ratio = cv2.GaussianBlur(weight * ratio, (0, 0), sigma) / np.maximum(cv2.GaussianBlur(weight, (0, 0), sigma), 1e-6)
+    norm = np.maximum(cv2.GaussianBlur(weight, (0, 0), sigma), 1e-6)
+    ratio = cv2.GaussianBlur(weight * ratio, (0, 0), sigma) / norm
     ratio = np.clip(ratio / np.exp(light_trend(np.log(np.maximum(ratio, 1e-3)), weight)), *CLAMP)
-    result: np.ndarray = 1.0 + weight * (ratio - 1.0)
-    return result
+    change = chromaticity(expression) - neutral[..., N_TINT]
+    shift = cv2.GaussianBlur(weight[..., None] * change, (0, 0), sigma) / norm[..., None]
+    out = np.empty(ratio.shape + (3,), np.float32)
+    out[..., RATIO] = 1.0 + weight * (ratio - 1.0)
+    light = np.zeros(2, np.float32)
+    if still is not None:  # the light's colour: the chromaticity's change over the skin the expression leaves still
+        reference = raster.evenly(still * np.minimum(*(texture(energy, luma, sigma) for energy, luma in photos)) * trust)
+        lit = change.reshape(-1, 2)[reference]
+        light = np.median(lit, axis=0) if len(lit) >= MIN_STILL else light
+    trusted = raster.evenly(weight)
+    x, y = np.log(ratio).reshape(-1)[trusted], (shift - light).reshape(-1, 2)[trusted]
+    slope = (x @ y) / max(float(x @ x), 1e-9) if len(x) >= MIN_STILL else np.zeros(2, np.float32)
+    out[..., TINT] = np.clip(np.log(out[..., RATIO])[..., None] * slope.astype(np.float32), -TINT_LIMIT, TINT_LIMIT)
+    return out
 
 
-def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | float = 1.0) -> np.ndarray:
-    """Eq. (9) applied: ``F_IMG = FI * (1 + M * IL)`` with ``IL = ERI - 1``.
+def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | float = 1.0, tint: np.ndarray | None = None) -> np.ndarray:
+    """Eq. (9) applied: ``F_IMG = FI * (1 + M * IL)`` with ``IL = ERI - 1``, and the ERI's tint (the module's notes).
 
     With ``M = 1`` this is Liu et al.'s ERI transfer (``FI * ERI``); the MD model passes
     its detail-importance mask ``M`` (:func:`exprclone.details.muscle.importance_mask`).
+    The tint ``t`` (weighted by ``M`` too) shifts each pixel's chromaticity: R and B are scaled
+    by ``exp(M t)`` against G, and the three by the one factor that keeps the pixel's luma what
+    Eq. (9) makes it.
 
     Parameters
     ----------
@@ -252,6 +300,8 @@ def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | f
         The geometrically warped target FI.
     eri : ndarray of shape (H, W)
     importance : ndarray of shape (H, W) or float
+    tint : ndarray of shape (H, W, 2), optional
+        The shift of ``log R/G`` and ``log B/G`` (:func:`ratio_on_grid`'s :data:`TINT`); none if None.
 
     Returns
     -------
@@ -264,7 +314,20 @@ def apply_details(image: np.ndarray, eri: np.ndarray, importance: np.ndarray | f
         rows = slice(y0, y0 + STRIP)
         strip = importance if isinstance(importance, float) else importance[rows]
         gain = (1.0 + strip * (eri[rows] - 1.0)).astype(np.float32)
-        channels = cv2.merge([gain] * image.shape[2], dst=gains[: len(gain)])
+        if tint is None:
+            channels = cv2.merge([gain] * image.shape[2], dst=gains[: len(gain)])
+        else:
+            channels = tinted(image[rows], gain, np.exp(np.asarray(strip, np.float32)[..., None] * tint[rows]), gains[: len(gain)])
         # one pass, rounded to nearest and saturated to [0, 255]
         cv2.multiply(image[rows], channels, dst=out[rows], dtype=cv2.CV_8U)
+    return out
+
+
+def tinted(image: np.ndarray, gain: np.ndarray, shift: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """The three channels' gains of :func:`apply_details` for ``image`` (uint8 RGB): R and B by ``shift`` (``exp`` of the
+    tint) against G, all by the factor that keeps the luma's gain ``gain``; written into ``out``."""
+    pixels = image.astype(np.float32) + 1.0  # a black pixel has no colour to shift
+    out[..., 0], out[..., 1], out[..., 2] = shift[..., 0], 1.0, shift[..., 1]
+    luma = pixels @ raster.LUMA
+    out *= (gain * luma / np.einsum("ijc,ijc,c->ij", pixels, out, raster.LUMA))[..., None]
     return out

@@ -120,7 +120,7 @@ def ratio_image(
     expression: ExpressionPhoto,
     layout: Layout,
     image_warp: ImageWarper,
-) -> tuple[np.ndarray, tuple[slice, slice]]:
+) -> Ratio:
     """The ERI of the source's two photos in the target's final geometry, warped by ``image_warp``
     (:data:`exprclone.imaging.warpers.IMAGE_WARPERS`).
 
@@ -149,10 +149,8 @@ def ratio_image(
 
     Returns
     -------
-    eri : ndarray of shape (H, W)
-        In the target photo's frame.
-    box : tuple of slice
-        Where it may differ from 1.
+    Ratio
+        The ERI and its tint in the target photo's frame, and the box where they count.
     """
     iod = align.interocular(dst[: mesh.n_landmarks], layout)
     rows, cols = box = align.box(dst[: mesh.n_moving], shape, ERI_MARGIN * iod, closed=False)
@@ -164,10 +162,32 @@ def ratio_image(
     labelling = piecewise.Labelling.of(at, mesh.triangles, grid)  # one for the three warps and the motion's mask
     photos = zip((faces.neutral, expression.photo, faces.target), (neutral_ctrl, expression.ctrl, mesh.points))
     neutral, moved_photo, target_trust = (photo.warped(image_warp, ctrl, labelling, mesh) for photo, ctrl in photos)
-    mask = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // step))
-    mask *= gate.moved(labelling, expression.motion, iod / step, max(1, MOTION_SHRINK // step))
+    face = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // step))
+    moved = gate.moved(labelling, expression.motion, iod / step, max(1, MOTION_SHRINK // step))
     lip_region = gate.lips(grid, at[: mesh.n_landmarks], layout)
-    small = eri.ratio_on_grid(neutral, moved_photo, target_trust, mask, iod / step, lip_region, faces.hue, step > 1)
+    made = eri.ratio_on_grid(
+        neutral, moved_photo, target_trust, face * moved, iod / step, lip_region, faces.hue, step > 1, face * (1 - moved)
+    )
+    small = raster.enlarge(made, size, step)
     out = np.ones(shape[:2], np.float32)
-    out[box] = raster.enlarge(small, size, step)
-    return out, box
+    out[box] = small[..., eri.RATIO]
+    return Ratio(out, np.ascontiguousarray(small[..., eri.TINT]), box)
+
+
+@dataclass(frozen=True)
+class Ratio:
+    """The ERI of one clone in the target photo's frame (:func:`ratio_image`).
+
+    Attributes
+    ----------
+    eri : ndarray of shape (H, W), float32
+        The luma ratio, 1 outside ``box``.
+    tint : ndarray of shape (h, w, 2), float32
+        Its tint in ``box`` (:func:`exprclone.details.eri.ratio_on_grid`): the shift of ``log R/G`` and ``log B/G``.
+    box : tuple of slice
+        Where they may differ from 1 and 0.
+    """
+
+    eri: np.ndarray
+    tint: np.ndarray
+    box: tuple[slice, slice]

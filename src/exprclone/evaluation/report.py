@@ -14,9 +14,10 @@ import numpy as np
 from ..io.images import save_image
 from ..landmarks.layout import DLIB68
 from ..mouth.measure import mouth_width
+from .figures import face_box
 from .london import Dataset
 from .runner import FIELDS, PAPER, Row, Variant, clone_pair, photo
-from .scores import TEETH_SHOWN
+from .scores import GREY_WARMTH, TEETH_SHOWN, shadows
 from .statistics import STRONG_SMILE, contrasts, summarise
 
 
@@ -35,6 +36,8 @@ def table(summary: list[Row]) -> str:
         "shows teeth: source does",
         "shows teeth: source does not",
         "judged smiling",
+        "shadow warmth, median [95% CI]",
+        f"grey shadows (< {GREY_WARMTH})",
     ]
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     for s in summary:
@@ -46,6 +49,8 @@ def table(summary: list[Row]) -> str:
             _share(s["teeth_kept"], s["teeth_sources"]),
             _share(s["teeth_invented"], s["closed_sources"]),
             "-" if np.isnan(s["smiling"]) else f"{100 * s['smiling']:.0f}%",
+            "-" if np.isnan(s["warmth"]) else f"{s['warmth']:.3f} [{s['warmth_low']:.3f}, {s['warmth_high']:.3f}]",
+            _share(s["grey"], s["warmth_n"]),
         ]
         lines.append("| " + " | ".join(map(str, values)) + " |")
     return "\n".join(lines)
@@ -103,6 +108,9 @@ def write_report(
         "inside the inner lips (`exprclone.evaluation.teeth`); the two teeth columns give, of the pairs whose source's",
         "real smile shows teeth and of those whose does not, the share of results that do; the last, the share that the",
         "expression judge (a classifier on the landmarks, trained without the pair's two people) calls smiling.",
+        "Shadow warmth: over the skin that darkens by more than 6 L* from the target's neutral photo (warped onto the",
+        "result), the median of (C*/C*_neutral) / (L*/L*_neutral): 1 for a shading that dims R, G and B alike; real",
+        f"skin's shadows are warmer. Grey shadows: the share of results under {GREY_WARMTH} (`exprclone.evaluation.scores.warmth`).",
         "",
         "## All pairs",
         "",
@@ -130,8 +138,56 @@ def write_report(
             f"![gallery]({gallery})",
             "",
         ]
+    sheet = _warmth_sheet(out, data, rows, landmarks, methods, variants[0])
+    if sheet:
+        text += [
+            "## The greyest shadows",
+            "",
+            "The results of the methods with ERI whose shadows are the least warm: target neutral, result, and the result",
+            f"with the darkened skin the measure counts outlined: {sheet}",
+            "",
+            f"![greyest shadows]({sheet})",
+            "",
+        ]
     (out / "summary.md").write_text("\n".join(text))
     return "\n".join(text)
+
+
+def _warmth_sheet(
+    out: Path, data: Dataset, rows: list[Row], landmarks: dict[str, np.ndarray], methods: tuple[str, ...], variant: Variant, count: int = 12
+) -> str | None:
+    """The ``count`` results of the methods with ERI in ``variant`` whose shadows are the least warm
+    (:func:`exprclone.evaluation.scores.warmth`), three to a row: [target neutral | result | result, the darkened skin
+    the measure counts outlined], each captioned with its pair, method and warmth."""
+    import cv2
+
+    from ..methods import BY_NAME
+
+    label, options = variant
+    eri = [m for m in methods if BY_NAME[m].eri]
+    scored = sorted(
+        (r for r in rows if r["method"] in {m + label for m in eri} and not r["failed"] and r.get("warmth", "") != ""),
+        key=lambda r: float(r["warmth"]),
+    )[:count]
+    if not scored:
+        return None
+    cells = []
+    for r in scored:
+        method, (a, b) = r["method"][: len(r["method"]) - len(label)], (r["source"], r["target"])
+        result = clone_pair(data, (a, b), (method,), landmarks, options)[method]
+        neutral, found = photo(data.path(b, False)), landmarks[data.path(b, False)]
+        darker, _ = shadows(result.image, result.landmarks["final"], neutral, found, DLIB68)
+        outlined = result.image.copy()
+        contours, _ = cv2.findContours(darker.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+        cv2.drawContours(outlined, contours, -1, (0, 255, 255), 3)
+        box = face_box(found, neutral.shape)
+        strip = np.hstack([cv2.resize(image[box], (240, 240), interpolation=cv2.INTER_AREA) for image in (neutral, result.image, outlined)])
+        _caption(strip, f"{a}->{b} {method}: warmth {float(r['warmth']):.2f}")
+        cells.append(strip)
+    while len(cells) % 3:
+        cells.append(np.zeros_like(cells[0]))
+    save_image(out / "warmth.jpg", np.vstack([np.hstack(cells[k : k + 3]) for k in range(0, len(cells), 3)]))
+    return "warmth.jpg"
 
 
 def _gallery(

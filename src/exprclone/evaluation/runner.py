@@ -57,7 +57,7 @@ from ..pipeline.cloner import CloneResult
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .judge import trained_without
 from .london import Dataset
-from .scores import FaceDescriptor, identity_distance, landmark_error, teeth
+from .scores import FaceDescriptor, identity_distance, landmark_error, teeth, warmth
 
 #: the landmarker that scores every result (on it, on the real smile, for the identity descriptor), whichever
 #: landmarker placed the clone's own landmarks (:func:`run`'s ``landmarker``): so that scores of both compare.
@@ -89,6 +89,7 @@ FIELDS = (
     "lambda_k",
     "variant",
     "smiling",
+    "warmth",
 )
 #: a result to score, by its row's name: ``(image or None, failure, lambda_k, variant label)``.
 Candidate = tuple[np.ndarray | None, str, float | None, str]
@@ -227,6 +228,8 @@ def scored_rows(
                 row["identity"] = identity_distance(_descriptor()(image, found), target_descriptor)
                 row["teeth"] = round(teeth(image, found, DLIB68), 5)
                 row["smiling"] = "" if judged is None else round(judged(found), 4)
+                warm = warmth(image, found, photo(tn), landmarks[tn], DLIB68)
+                row["warmth"] = "" if np.isnan(warm) else round(warm, 4)
             except ExprCloneError as e:
                 failed = str(e)
         row["failed"] = failed

@@ -14,7 +14,10 @@ person's real smile, a clone of A's smile onto B can be compared with B's own sm
   a smile that shows teeth can be checked to show them too (:data:`TEETH_SHOWN`);
 * **material swaps**: where the source's two photos show different things, not the same
   skin shaded otherwise (:func:`material_swaps`), so that a clone can be checked to take
-  no expression ratio there.
+  no expression ratio there;
+* **shadow warmth**: how the skin's chroma changes where the expression darkens it, against
+  how its lightness does (:func:`warmth`): real skin's shadows are warmer than a dimmed copy of
+  it (light scattered under the skin), and a shading that only dims reads as grey.
 """
 
 from __future__ import annotations
@@ -43,6 +46,14 @@ SAME_PERSON = 0.6
 #: (0.0028, a lip piercing; no closed smile above 0.0011) and the least of the 36 smiles
 #: that show teeth to the eye (0.0055).
 TEETH_SHOWN = 0.004
+#: the skin that counts for :func:`warmth`: it darkens by more than this many CIELAB L* from the neutral photo.
+DARKER = 6.0
+#: :func:`warmth` blurs both photos by this many inter-ocular distances: what it compares is shading, not pores.
+WARMTH_BLUR = 0.02
+#: :func:`warmth` needs at least this share of the face's skin to darken, or it has nothing to measure (NaN).
+WARMTH_SHARE = 0.002
+#: a shadow this warm or less reads as grey beside real skin's (5% of the London Set's real smiles are under it).
+GREY_WARMTH = 1.08
 #: a change of luma by this factor or more between the source's two photos is no shading: the
 #: ERI is clamped to [0.7, 1.4] (:data:`exprclone.details.eri.CLAMP`), and hair against skin, skin
 #: against the background or a highlight against skin differ by more.
@@ -99,6 +110,65 @@ def teeth(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> float:
     float
     """
     return float(interior(image, landmarks, layout)[0].sum() / max(mouth_width(landmarks, layout), 1e-9) ** 2)
+
+
+def skin_of(shape: tuple[int, ...], landmarks: np.ndarray, layout: Layout) -> np.ndarray:
+    """The face's skin below the brows, ``(H, W)`` bool: the hull of the jaw and brows, the eyes, brows, nostrils and
+    lips (their polygons grown by a tenth of the eye distance) left out."""
+    iod = align.interocular(landmarks, layout)
+    mask = np.zeros(shape[:2], np.uint8)
+    hull = cv2.convexHull(np.concatenate([landmarks[list(layout.jaw)], *(landmarks[list(b)] for b in layout.brows)]).astype(np.int32))
+    cv2.fillConvexPoly(mask, hull, 1)
+    organs = np.zeros_like(mask)
+    for part in (*layout.eyes, *layout.brows, layout.mouth_outer, layout.nose[4:]):
+        cv2.fillConvexPoly(organs, cv2.convexHull(landmarks[list(part)].astype(np.int32)), 1)
+    grown = raster.erode(1 - organs, max(1, round(0.1 * iod)))
+    return (mask > 0) & (grown > 0)
+
+
+def warmth(result: np.ndarray, landmarks: np.ndarray, neutral: np.ndarray, neutral_landmarks: np.ndarray, layout: Layout) -> float:
+    """How warm the shadows of a face with an expression are: the median, over the skin that darkens by more than
+    :data:`DARKER` L*, of ``(C*_result / C*_neutral) / (L*_result / L*_neutral)`` (CIELAB chroma and lightness).
+
+    The neutral photo is warped onto the result's landmarks (piecewise-affine) and both are blurred by
+    :data:`WARMTH_BLUR` inter-ocular distances. A shading that dims R, G and B alike keeps the chroma-to-lightness
+    proportion: 1. Real skin's shadows are warmer and more saturated than that: the London Set's real smiles measure
+    about 1.27 (tests/evaluation/test_scores.py). NaN when less than :data:`WARMTH_SHARE` of the skin darkens.
+
+    Parameters
+    ----------
+    result : ndarray of shape (H, W, 3), uint8 RGB
+        The face with the expression (a clone, or the person's real expression).
+    landmarks : ndarray of shape (N, 2)
+        Its landmarks.
+    neutral, neutral_landmarks
+        The same person's neutral photo and its landmarks.
+    layout : Layout
+
+    Returns
+    -------
+    float
+    """
+    darker, warmer = shadows(result, landmarks, neutral, neutral_landmarks, layout)
+    if darker.sum() < WARMTH_SHARE * skin_of(result.shape, landmarks, layout).sum() or not darker.any():
+        return float("nan")
+    return float(np.median(warmer[darker]))
+
+
+def shadows(
+    result: np.ndarray, landmarks: np.ndarray, neutral: np.ndarray, neutral_landmarks: np.ndarray, layout: Layout
+) -> tuple[np.ndarray, np.ndarray]:
+    """Where :func:`warmth` measures, and what: the skin that darkens by more than :data:`DARKER` L* (``(H, W)`` bool),
+    and ``(C*_result / C*_neutral) / (L*_result / L*_neutral)`` at every pixel (``(H, W)``)."""
+    mesh = piecewise.build_mesh(neutral_landmarks, neutral.shape, layout)
+    control = mesh.control_points(landmarks, align.fit_rigid(neutral_landmarks, landmarks, layout))
+    warped = piecewise.warp(neutral, mesh.points, control, mesh.triangles, result.shape[:2])
+    sigma = max(WARMTH_BLUR * align.interocular(landmarks, layout), 0.5)
+    lab = [cv2.cvtColor(cv2.GaussianBlur(image.astype(np.float32) / 255, (0, 0), sigma), cv2.COLOR_RGB2Lab) for image in (result, warped)]
+    (l_r, chroma_r), (l_n, chroma_n) = ((x[..., 0], np.hypot(x[..., 1], x[..., 2])) for x in lab)
+    darker = skin_of(result.shape, landmarks, layout) & (l_r < l_n - DARKER) & (chroma_n > 1.0)
+    warmer = (chroma_r / np.maximum(chroma_n, 1e-6)) / (np.maximum(l_r, 1e-6) / np.maximum(l_n, 1e-6))
+    return darker, warmer
 
 
 class FaceDescriptor:

@@ -12,7 +12,10 @@ import numpy as np
 
 from .judge import SMILING
 from .runner import REFERENCES, Row
-from .scores import SAME_PERSON, TEETH_SHOWN
+from .scores import GREY_WARMTH, SAME_PERSON, TEETH_SHOWN
+
+#: resamples of the bootstrap interval of a median (:func:`median_interval`), and its seed.
+RESAMPLES, SEED = 2000, 0
 
 #: relative widening of the mouth (corner distance / eye-corner distance) that makes a
 #: strong smile: the top 29% of the London Set's 72 people (median 15%, quartiles 11% and 22%).
@@ -53,12 +56,31 @@ def summarise(rows: list[Row], strong_only: bool = False, baseline: str = "globa
         diff = np.array([r["mouth"] - base[pair_of(r)] for r in ok if pair_of(r) in base], np.float64)
         line["mouth_vs_baseline"] = float(diff.mean()) if len(diff) else float("nan")
         line["mouth_vs_baseline_se"] = float(diff.std(ddof=1) / np.sqrt(len(diff))) if len(diff) > 1 else float("nan")
+        warm = np.array([float(r["warmth"]) for r in ok if r.get("warmth", "") != ""], np.float64)
+        line["warmth"], line["warmth_low"], line["warmth_high"] = median_interval(warm)
+        line["warmth_n"] = len(warm)
+        line["grey"] = float((warm < GREY_WARMTH).mean()) if len(warm) else float("nan")
         for shown_in_source, count, share in ((True, "teeth_sources", "teeth_kept"), (False, "closed_sources", "teeth_invented")):
             group = [float(r["teeth"]) >= TEETH_SHOWN for r in ok if (float(r["source_teeth"]) >= TEETH_SHOWN) == shown_in_source]
             line[count] = len(group)
             line[share] = float(np.mean(group)) if group else float("nan")
         out.append(line)
     return out
+
+
+def median_interval(values: np.ndarray) -> tuple[float, float, float]:
+    """The median of ``values`` and its 95% bootstrap interval (percentiles of :data:`RESAMPLES` resampled medians);
+    NaN for no values.
+
+    >>> median, low, high = median_interval(np.arange(101.0))
+    >>> median, low < 50 < high
+    (50.0, True)
+    """
+    if not len(values):
+        return float("nan"), float("nan"), float("nan")
+    drawn = np.random.default_rng(SEED).choice(values, (RESAMPLES, len(values)))
+    low, high = np.percentile(np.median(drawn, axis=1), (2.5, 97.5))
+    return float(np.median(values)), float(low), float(high)
 
 
 def pair_of(row: Row) -> tuple[str, str, str]:

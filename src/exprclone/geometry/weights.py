@@ -125,3 +125,11 @@ class Transfer:
         out = eri.copy()
         out[box] = np.exp(exponent * np.log(eri[box]))
         return out
+
+    def tint(self, tint: np.ndarray, box: tuple[slice, slice]) -> np.ndarray:
+        """``w tint``: the ERI's tint (``(h, w, 2)``, a shift of logarithms over ``box``) scaled as its ratio is."""
+        if self.details is None:
+            return tint
+        exponent = self.details[box] if isinstance(self.details, np.ndarray) else self.details
+        scaled: np.ndarray = (np.asarray(exponent, np.float32)[..., None] * tint).astype(np.float32)
+        return scaled

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from ..details import eri, muscle
-from ..details.stage import ExpressionPhoto, ratio_image
+from ..details.stage import ExpressionPhoto, Ratio, ratio_image
 from ..errors import ExprCloneError
 from ..geometry import db_metric
 from ..geometry.weights import Transfer
@@ -249,15 +249,15 @@ class Cloner:
         control, unfolded = piecewise.unfold(mesh.points, control, mesh.triangles, mesh.n_moving)
         return Rendered(self.image_warp(faces.target_image, mesh.points, control, mesh), control, unfolded)
 
-    def ratio(self, target: Rendered, photo: ExpressionPhoto, transfer: Transfer) -> tuple[np.ndarray, tuple[slice, slice]]:
-        """The ERI: both source photos warped to the geometry of FI ``target`` (Liu et al.), scaled by ``transfer``, and
-        the box where it is not 1."""
+    def ratio(self, target: Rendered, photo: ExpressionPhoto, transfer: Transfer) -> Ratio:
+        """The ERI and its tint: both source photos warped to the geometry of FI ``target`` (Liu et al.), scaled by
+        ``transfer``."""
         faces = self.faces
         shape = faces.target_image.shape
-        ratio, box = ratio_image(
+        made = ratio_image(
             faces.mesh, target.control, shape, faces.ratio_faces, faces.source_neutral_ctrl, photo, faces.layout, self.image_warp
         )
-        return transfer.ratio(ratio, box), box
+        return Ratio(transfer.ratio(made.eri, made.box), transfer.tint(made.tint, made.box), made.box)
 
     def result(
         self,
@@ -265,7 +265,7 @@ class Cloner:
         expression: Expression,
         shapes: dict[str, Shape],
         rendered: Rendered,
-        ratio: tuple[np.ndarray, tuple[slice, slice]] | None,
+        ratio: Ratio | None,
         options: Options,
         transfer: Transfer,
     ) -> CloneResult:
@@ -296,7 +296,7 @@ class Cloner:
         expression: Expression,
         fi: np.ndarray,
         final: np.ndarray,
-        ratio: tuple[np.ndarray, tuple[slice, slice]],
+        ratio: Ratio,
         mouth: bool,
         transfer: Transfer,
     ) -> tuple[np.ndarray, dict[str, Any]]:
@@ -310,7 +310,7 @@ class Cloner:
             ``muscle_strengths``, ``mouth_mask``.
         """
         faces, layout = self.faces, self.faces.layout
-        ratio_map, box = ratio
+        ratio_map, box = ratio.eri, ratio.box
         details: dict[str, Any] = {"eri": ratio_map}
         importance: np.ndarray | float = 1.0
         if method.md:
@@ -319,7 +319,9 @@ class Cloner:
             importance = muscle.importance_mask(faces.target_image.shape[:2], centres, radii, h, muscle.mask_step(radii))
             details.update(muscle_mask=importance, muscle_strengths=h)
         image = fi.copy()
-        image[box] = eri.apply_details(fi[box], ratio_map[box], importance if isinstance(importance, float) else importance[box])
+        image[box] = eri.apply_details(
+            fi[box], ratio_map[box], importance if isinstance(importance, float) else importance[box], ratio.tint
+        )
         if mouth:  # the photos are measured for the paste's match only when there is a paste
             image, details["mouth_mask"] = paste.fill_interior(
                 image, final, expression.image, expression.points, lambda: faces.mouth_reference, layout, transfer.paste
