@@ -45,8 +45,9 @@ class ExprCloneError(ValueError):
     """
 
     def __init__(self, subject: str | os.PathLike[str], problem: str) -> None:
+        subject, problem = shortened(str(subject)), shortened(problem)
         super().__init__(f"{subject}: {problem}")
-        self.subject, self.problem = str(subject), problem
+        self.subject, self.problem = subject, problem
 
     def about(self, names: dict[str, str]) -> "ExprCloneError":
         """The same problem, of the same type, with the subject re-named by ``names``.
@@ -65,6 +66,27 @@ class ExprCloneError(ValueError):
     def __reduce__(self) -> tuple[type["ExprCloneError"], tuple[str, str]]:
         """Pickled as its subject and problem, so it crosses into and out of worker processes whole."""
         return type(self), (self.subject, self.problem)
+
+
+#: the longest subject or problem an error says, in characters: what a client sent is not echoed whole.
+MAX_SAID = 400
+#: the longest value an error quotes (:func:`quoted`), in characters.
+MAX_QUOTED = 40
+
+
+def shortened(text: str, longest: int = MAX_SAID) -> str:
+    """``text`` on one line, cut to ``longest`` characters (an ellipsis where it was cut)."""
+    text = text.replace("\n", " ").replace("\r", " ")
+    return text if len(text) <= longest else f"{text[: longest - 1]}…"
+
+
+def quoted(value: object, longest: int = MAX_QUOTED) -> str:
+    """``repr(value)`` as an error quotes a bad value: at most ``longest`` characters of it.
+
+    >>> quoted("x" * 100)
+    "'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx…"
+    """
+    return shortened(repr(value), longest)
 
 
 class NoFaceError(ExprCloneError):

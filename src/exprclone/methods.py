@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .errors import ExprCloneError
+from .errors import ExprCloneError, quoted
 
 #: the shape stages, in the order they are computed (each may use the ones before it).
 SHAPES = ("global", "local", "elastic")
@@ -79,5 +79,5 @@ def lookup(names: tuple[str, ...] | list[str]) -> tuple[Method, ...]:
     """The methods named, or ExprCloneError (subject ``method``) for the first unknown name."""
     unknown = [n for n in names if n not in BY_NAME]
     if unknown:
-        raise ExprCloneError("method", f"unknown method {unknown[0]!r}; choose one of: {', '.join(METHODS)}")
+        raise ExprCloneError("method", f"unknown method {quoted(unknown[0])}; choose one of: {', '.join(METHODS)}")
     return tuple(BY_NAME[n] for n in names)

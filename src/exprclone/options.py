@@ -61,7 +61,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from .errors import ExprCloneError
+from .errors import ExprCloneError, quoted
 from .landmarks.backends import DEFAULT, LANDMARKERS, Landmarker
 from .methods import METHODS
 
@@ -115,6 +115,9 @@ class Spec:
         Given outside Python as a file (landmarks, an eigenface basis), which the surface reads.
     surfaces : frozenset of str
         Where it is offered (:data:`SURFACES`); nowhere but in Python when empty.
+    schema : dict
+        What a form field's value meets beyond its kind, in JSON Schema's words (``pattern``, ``minimum``...), for
+        an HTTP API's schema; the check still decides.
     """
 
     help: str
@@ -128,6 +131,7 @@ class Spec:
     metavar: str | None = None
     file: bool = False
     surfaces: frozenset[str] = SURFACES
+    schema: Mapping[str, Any] = dataclasses.field(default_factory=dict)
 
 
 def option(default: Any, spec: Spec) -> Any:
@@ -138,7 +142,7 @@ def option(default: Any, spec: Spec) -> Any:
 def _one_of(choices: tuple[str, ...]) -> Callable[[Any, str], str]:
     def check(value: Any, name: str) -> str:
         if value not in choices:
-            raise ExprCloneError(name, f"unknown {name.replace('_', ' ')} {value!r}; choose one of: {', '.join(choices)}")
+            raise ExprCloneError(name, f"unknown {name.replace('_', ' ')} {quoted(value)}; choose one of: {', '.join(choices)}")
         return str(value)
 
     return check
@@ -146,7 +150,7 @@ def _one_of(choices: tuple[str, ...]) -> Callable[[Any, str], str]:
 
 def check_boolean(value: Any, name: str) -> bool:
     if type(value).__name__ not in ("bool", "bool_"):  # numpy's bool_ too
-        raise ExprCloneError(name, f"must be True or False, got {value!r}")
+        raise ExprCloneError(name, f"must be True or False, got {quoted(value)}")
     return bool(value)
 
 
@@ -155,21 +159,21 @@ def _number(text: str) -> float:
     try:
         return float(text)
     except ValueError:
-        raise ValueError(f"expected a number, got {text!r}") from None
+        raise ValueError(f"expected a number, got {quoted(text)}") from None
 
 
 def parse_boolean(text: str) -> bool:
     """``true``/``false`` (``1``/``0``, ``yes``/``no``), as forms and manifests write them."""
     words = {"true": True, "1": True, "yes": True, "false": False, "0": False, "no": False}
     if text.strip().lower() not in words:
-        raise ValueError(f"expected true or false, got {text!r}")
+        raise ValueError(f"expected true or false, got {quoted(text)}")
     return words[text.strip().lower()]
 
 
 def check_lambda(value: Any, name: str = "lambda") -> float | str:
     """``"auto"`` or a number >= 0 (``inf`` allowed: the local result), or ExprCloneError about ``name``."""
     if value != "auto" and (isinstance(value, bool) or not isinstance(value, (int, float)) or not value >= 0):
-        raise ExprCloneError(name, f"must be 'auto' or a number >= 0, got {value!r}")
+        raise ExprCloneError(name, f"must be 'auto' or a number >= 0, got {quoted(value)}")
     return value
 
 
@@ -184,13 +188,13 @@ def parse_lambda(text: str) -> float | str:
     try:
         return float(text)
     except ValueError:
-        raise ExprCloneError("lambda", f"must be 'auto' or a number >= 0, got {text!r}") from None
+        raise ExprCloneError("lambda", f"must be 'auto' or a number >= 0, got {quoted(text)}") from None
 
 
 def _strength(value: Any, name: str) -> float:
     low, high = STRENGTH_RANGE
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
-        raise ExprCloneError(name, f"must be a number from {low:g} to {high:g}, got {value!r}")
+        raise ExprCloneError(name, f"must be a number from {low:g} to {high:g}, got {quoted(value)}")
     return float(value)
 
 
@@ -202,7 +206,7 @@ def check_regions(only: Any, name: str = "only", regions: tuple[str, ...] = REGI
     names = tuple(n.strip() for n in only.split(",")) if isinstance(only, str) else tuple(only)
     bad = [n for n in names if n not in regions]
     if not names or bad:
-        raise ExprCloneError(name, f"unknown region {bad[0] if bad else ''!r}; choose from: {', '.join(regions)}")
+        raise ExprCloneError(name, f"unknown region {quoted(bad[0] if bad else '')}; choose from: {', '.join(regions)}")
     return None if set(names) == set(regions) else tuple(dict.fromkeys(names))
 
 
@@ -210,7 +214,7 @@ def _landmarker(value: Any, name: str) -> str | Landmarker:
     if isinstance(value, str):
         return _one_of(LANDMARKERS)(value, name)
     if not callable(getattr(value, "detect", None)):
-        raise ExprCloneError(name, f"must be one of {', '.join(LANDMARKERS)} or an object with detect(), got {value!r}")
+        raise ExprCloneError(name, f"must be one of {', '.join(LANDMARKERS)} or an object with detect(), got {quoted(value)}")
     return value
 
 
@@ -313,6 +317,7 @@ class Options(Chosen):
             also=(int, float),
             key="lambda",
             metavar="auto|FLOAT",
+            schema={"pattern": r"^(auto|inf|[0-9]+(\.[0-9]*)?|\.[0-9]+)$"},
         ),
     )
     mouth: bool = option(
@@ -371,6 +376,7 @@ class Options(Chosen):
             float,
             also=(int,),
             metavar="S",
+            schema={"minimum": STRENGTH_RANGE[0], "maximum": STRENGTH_RANGE[1]},
         ),
     )
     only: tuple[str, ...] | None = option(
@@ -380,6 +386,7 @@ class Options(Chosen):
             check_regions,
             also=(list,),
             metavar="REGIONS",
+            schema={"pattern": f"^({'|'.join(REGIONS)})(,({'|'.join(REGIONS)}))*$"},
         ),
     )
     retarget: bool = option(
@@ -431,7 +438,7 @@ class Options(Chosen):
 def _neutral_frame(value: Any, name: str) -> int | str:
     if value in ("closed", "first") or (isinstance(value, int) and not isinstance(value, bool) and value >= 0):
         return value
-    raise ExprCloneError(name, f"must be closed, first or a frame number >= 0, got {value!r}")
+    raise ExprCloneError(name, f"must be closed, first or a frame number >= 0, got {quoted(value)}")
 
 
 def _frame_text(text: str) -> int | str:
@@ -439,7 +446,7 @@ def _frame_text(text: str) -> int | str:
     if text in ("closed", "first"):
         return text
     if not text.isdigit():
-        raise ValueError(f"expected closed, first or a frame number >= 0, got {text!r}")
+        raise ValueError(f"expected closed, first or a frame number >= 0, got {quoted(text)}")
     return int(text)
 
 
@@ -463,6 +470,7 @@ class Driving(Chosen):
             _frame_text,
             also=(int,),
             metavar="N|closed|first",
+            schema={"pattern": "^(closed|first|[0-9]+)$"},
         ),
     )
     lambda_per_frame: bool = option(
@@ -505,7 +513,7 @@ SIZE_RANGE = (16, 4096)
 def _size(value: Any, name: str) -> int | None:
     low, high = SIZE_RANGE
     if value is not None and (isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high):
-        raise ExprCloneError(name, f"must be from {low} to {high} pixels, or full (the portrait's own size), got {value!r}")
+        raise ExprCloneError(name, f"must be from {low} to {high} pixels, or full (the portrait's own size), got {quoted(value)}")
     return value
 
 
@@ -514,7 +522,7 @@ def _size_text(text: str) -> int | None:
     if text == "full":
         return None
     if not text.isdigit():
-        raise ValueError(f"expected a number of pixels or full, got {text!r}")
+        raise ValueError(f"expected a number of pixels or full, got {quoted(text)}")
     return int(text)
 
 
@@ -536,6 +544,7 @@ class Framing(Chosen):
             _size_text,
             int,
             metavar="PIXELS",
+            schema={"minimum": SIZE_RANGE[0], "maximum": SIZE_RANGE[1]},
             surfaces=frozenset({"cli", "form", "json"}),
         ),
     )
@@ -615,7 +624,7 @@ def from_json(cls: type[T], given: Mapping[str, Any], base: T | None = None) -> 
         parse = spec(cls, name).parse
         kinds = (spec(cls, name).kind, *spec(cls, name).also)
         if not isinstance(value, kinds) or (isinstance(value, bool) and bool not in kinds):
-            raise ExprCloneError(key(cls, name), f"must be {expected(kinds)}, got {value!r}")
+            raise ExprCloneError(key(cls, name), f"must be {expected(kinds)}, got {quoted(value)}")
         if isinstance(value, str) and parse is not None:
             value = parse(value)
         changes[name] = tuple(value) if isinstance(value, list) else value

@@ -90,6 +90,8 @@ def test_a_manifest_with_bad_rows_is_done_and_reported(tmp_path, blank):
         ("source_neutral,target_neutral,output\na,b,c\n", "the manifest has no column source_expression"),
         (f"{HEADER}\na.jpg,b.jpg,c.jpg,out.png\nd.jpg,e.jpg,f.jpg,out.png\n", "rows 1 and 2 both write"),
         (f"{HEADER}\na.jpg,b.jpg,c.jpg,a.jpg\n", "row 1 would overwrite an input"),
+        (f"{HEADER}\na.jpg,b.jpg,c.jpg,../escaped.png\n", "row 1's output '../escaped.png' is outside the output folder"),
+        (f"{HEADER}\na.jpg,b.jpg,c.jpg,out.gif\n", "row 1's output 'out.gif' is no image file"),
     ],
 )
 def test_an_unusable_manifest_stops_before_any_work(tmp_path, content, message):

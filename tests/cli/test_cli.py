@@ -359,3 +359,15 @@ def test_serving_without_the_server_extra_says_what_to_install(monkeypatch, word
     assert r.returncode == 2 and r.stderr.strip() == (
         "exprclone: error: serve: needs the web server's packages (fastapi is missing): pip install 'exprclone[server]'"
     )
+
+
+@pytest.mark.parametrize("command", ["clone", "batch"])
+def test_an_expression_file_nested_too_deep_is_one_line(tmp_path, command):
+    """An ``--expression`` file of 4,000 ``[``: refused before it is parsed, in one line (it was a 31-line traceback)."""
+    deep = tmp_path / "deep.json"
+    deep.write_text("[" * 4000)
+    words = [TN, "-o", tmp_path / "x.png"] if command == "clone" else ["--targets", TN, "--out", tmp_path / "out"]
+    p = run(command, *words, "--expression", deep)
+    assert p.returncode == 2 and p.stderr.strip() == f"exprclone: error: {deep}: not JSON of this kind: nested 4000 deep (at most 16)", (
+        p.stderr
+    )

@@ -154,6 +154,7 @@ def test_command_drives_a_portrait_with_every_clip(clip, tmp_path):
         ([PORTRAIT], "not a video"),
         (["{clip}", "--neutral-frame", "500"], "no frame 500"),
         (["{clip}", "--size", "4"], "--size"),
+        (["{clip}", "--size", "100000"], "--size: must be from 16 to 4096 pixels"),  # was OpenCV's allocation traceback
     ],
 )
 def test_bad_input_is_one_line_and_no_output(args, message, grid_clip, tmp_path):

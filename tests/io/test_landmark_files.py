@@ -93,7 +93,7 @@ GOOD = [[100.0 + i, 200.0] for i in range(68)]
         ("nan.json", json.dumps(GOOD[:67] + [[float("nan"), 5.0]]), "point 67 has a non-finite coordinate"),
         ("inf.json", json.dumps(GOOD[:10] + [[5.0, float("inf")]] + GOOD[11:]), "point 10 has a non-finite coordinate"),
         ("out.json", json.dumps(GOOD[:67] + [[2000, 5]]), "landmark 67 at (2000, 5) is outside the 1350x1350 image"),
-        ("broken.json", "{not json", "invalid JSON"),
+        ("broken.json", "{not json", "not JSON"),
         ("triples.json", "[[1, 2, 3]]", "list of [x, y] pairs"),
         ("keys.json", '{"points": []}', "list of [x, y] pairs"),
         ("text.json", '[["1", "2"]]', "list of [x, y] pairs"),

@@ -138,7 +138,7 @@ def test_each_landmarker_reaches_the_api_and_the_record(client, name):
         ({}, {"mouth": "perhaps"}, 400, "mouth: "),
         (dict(target_neutral_landmarks=("t.txt", b"[]")), {}, 400, "target_neutral_landmarks: a landmark file must be .json or .tem"),
         (dict(target_neutral_landmarks=("t.json", b"[[1, 2]]")), {}, 400, "target_neutral_landmarks: found 1 landmarks, expected 68"),
-        (dict(target_neutral_landmarks=("t.json", b"{nope")), {}, 400, "target_neutral_landmarks: invalid JSON"),
+        (dict(target_neutral_landmarks=("t.json", b"{nope")), {}, 400, "target_neutral_landmarks: not JSON"),
     ],
 )
 def test_bad_input_is_a_one_line_json_error_naming_the_field(client, replaced, form, status, message):

@@ -5,6 +5,10 @@ Every operation gets :data:`EXAMPLES` requests that follow its schema and :data:
 is checked, for now: no 5xx, and every JSON error carries an ``error`` string; the error responses are
 not all declared in the OpenAPI yet, so statuses are not checked against it. The server's log must
 hold no traceback.
+
+Drawn so, an upload is never a real photo or video, and clone, compare and video were fuzzed on their
+400 paths alone: a second run gives the operations that take files real ones (the samples, made small),
+their other fields drawn from the schema, so that the work itself runs on what a client may ask.
 """
 
 import httpx
@@ -14,6 +18,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis.errors import Unsatisfiable
 from schemathesis import GenerationMode
 from serving import Server
+
+from exprclone import data as samples
 
 pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -m 'not slow' leaves these out
 
@@ -65,3 +71,65 @@ def test_every_operation_answers_without_a_server_error(server):
                 assert mode is GenerationMode.NEGATIVE, operation.label
     print(f"\nschemathesis: {sum(tried.values())} requests over {len(tried)} operations: {tried}")
     assert len(tried) >= 8 and httpx.get(f"{server}/api/health").status_code == 200
+
+
+#: requests per operation that takes files, with real photos and a real video.
+REAL_EXAMPLES = 6
+
+
+def small(path, side: int = 400) -> bytes:
+    """A sample photo, its longest side ``side`` pixels, as JPEG (so that each clone takes a moment)."""
+    import io
+
+    from PIL import Image
+
+    image = Image.open(path)
+    image.thumbnail((side, side))
+    out = io.BytesIO()
+    image.convert("RGB").save(out, "JPEG", quality=90)
+    return out.getvalue()
+
+
+#: the files a case's form gets instead of what Schemathesis drew, by field; the landmark files and a built-in expression
+#: are left out, so that the clone runs on the photos.
+REAL = {
+    "source_neutral": small(samples.path(samples.SOURCE)),
+    "source_expression": small(samples.path(samples.SOURCE, "smile")),
+    "target_neutral": small(samples.path(samples.TARGET)),
+    "portrait": small(samples.path(samples.TARGET)),
+    "photo": small(samples.path(samples.TARGET)),
+    "driving_video": samples.clip().read_bytes(),
+}
+DROPPED = ("expression", "source_neutral_landmarks", "source_expression_landmarks", "target_neutral_landmarks", "global_landmarks")
+
+
+def fields(raw: dict, path: str) -> set[str]:
+    """The form fields a POST to ``path`` takes, from the OpenAPI document ``raw``."""
+    body = raw["paths"][path]["post"]["requestBody"]["content"]["multipart/form-data"]["schema"]["$ref"]
+    return set(raw["components"]["schemas"][body.rsplit("/", 1)[1]]["properties"])
+
+
+def test_the_operations_that_take_files_run_on_real_ones(server):
+    schema = schemathesis.openapi.from_url(f"{server}/openapi.json")
+    raw = httpx.get(f"{server}/openapi.json").json()
+    answered: dict[str, list[int]] = {}
+    for result in schema.get_all_operations():
+        operation = result.ok()
+        if operation.method.upper() != "POST" or not operation.path.startswith("/api/"):
+            continue
+
+        @settings(FUZZ, max_examples=REAL_EXAMPLES)
+        @given(case=operation.as_strategy(generation_mode=GenerationMode.POSITIVE))
+        def real(case):
+            if not isinstance(case.body, dict):
+                return
+            takes = fields(raw, operation.path)
+            case.body = {k: v for k, v in case.body.items() if k not in DROPPED} | {k: REAL[k] for k in REAL if k in takes}
+            response = case.call(base_url=server, timeout=120)
+            check(response)
+            answered.setdefault(operation.label, []).append(response.status_code)
+
+        real()
+    print(f"\nschemathesis with real files: {answered}")
+    for label in ("POST /api/clone", "POST /api/compare", "POST /api/video", "POST /api/landmarks"):
+        assert answered.get(label) and all(status < 300 for status in answered[label]), (label, answered)

@@ -73,7 +73,7 @@ FLAT_TEM = "\n".join(TEM[:1] + [f"{line.split()[0]} 600" for line in TEM[1:190]]
 @pytest.mark.parametrize(
     "name, content, problem",
     [
-        ("deep.json", "[" * 100_000 + "]" * 100_000, "invalid landmark file (brackets nested 100000 deep; at most 8)"),
+        ("deep.json", "[" * 100_000 + "]" * 100_000, "not JSON of this kind: nested 100000 deep (at most 8)"),
         ("same.json", IDENTICAL, "not a face: the outer eye corners (points 36 and 45) are 0 pixels apart"),
         ("digits.json", "[" + ",".join(["[1" + "0" * 5000 + ", 2]"] + ["[1, 2]"] * 67) + "]", "point 0 has a non-finite coordinate"),
         ("huge.json", "[" + ",".join([f"[{10**400}, 2]"] + ["[1, 2]"] * 67) + "]", "point 0 has a non-finite coordinate"),
@@ -117,6 +117,8 @@ PORTRAIT = samples.path("003").read_bytes()
         ([START, PORTRAIT, b"\0\0\0\1" + STRIP], "frame: image is too narrow (32x40000 pixels", 1008),
         ([START, PORTRAIT, '{"type": "dance"}'], 'live: unknown message type "dance"', 1008),
         ([START, PORTRAIT, '{"type": "start"}'], "live: a start message comes only first", 1008),
+        (["[" * 4000], "live: a text message must be a JSON object", 1008),  # under the message limit, nested too deep
+        ([START, PORTRAIT, "[" * 4000], "live: a text message must be a JSON object", 1008),
     ],
 )
 def test_a_misused_socket_gets_an_error_then_a_close(hostile, messages, error, code):
@@ -200,3 +202,97 @@ def test_a_strip_of_a_video_is_refused_before_its_job(client, tmp_path):
     video_files = {"portrait": ("p.jpg", PORTRAIT), "driving_video": ("v.mp4", (tmp_path / "strip.mp4").read_bytes())}
     r = client.post("/api/video", files=video_files, data={"size": "64"})
     assert r.status_code == 400 and r.json()["error"].startswith("driving_video: image is too narrow (32x640 pixels"), r.text
+
+
+#: the most one video upload may add to a server process's peak memory, whatever it holds under the body limit.
+MAX_VIDEO_GROWTH = 200 * 2**20
+
+
+def mjpeg_packets(width: int, height: int) -> list:
+    """One grey frame of ``width`` by ``height`` encoded as Motion JPEG: its packets."""
+    import av
+
+    codec = av.CodecContext.create("mjpeg", "w")
+    codec.width, codec.height, codec.pix_fmt, codec.time_base = width, height, "yuvj420p", Fraction(1, 25)
+    frame = av.VideoFrame.from_ndarray(np.full((height, width, 3), 128, np.uint8), format="rgb24").reformat(format="yuvj420p")
+    return list(codec.encode(frame)) + list(codec.encode(None))
+
+
+def mjpeg_video(sizes: list[tuple[int, int]], declared: tuple[int, int]) -> bytes:
+    """A Matroska file of Motion JPEG frames of ``sizes``, its header declaring frames of ``declared`` size."""
+    import av
+
+    out = io.BytesIO()
+    with av.open(out, "w", format="matroska") as container:
+        stream = container.add_stream("mjpeg", rate=25)
+        stream.width, stream.height, stream.pix_fmt = *declared, "yuvj420p"
+        for k, packet in enumerate(p for size in sizes for p in mjpeg_packets(*size)):
+            packet.stream, packet.pts, packet.dts, packet.time_base = stream, k, k, Fraction(1, 25)
+            container.mux(packet)
+    return out.getvalue()
+
+
+def test_a_video_of_huge_frames_is_refused_from_its_headers(hostile, client):
+    """A 1 MB video holding one 8000x8000 frame: refused from its headers, its frame never decoded."""
+    video = mjpeg_video([(8000, 8000)], (8000, 8000))
+    form = {"portrait": ("p.jpg", PORTRAIT), "driving_video": ("v.mkv", video)}
+    growth, r = peak_growth(hostile.process.pid, lambda: client.post("/api/video", files=form, data={"size": "64"}))
+    assert r.status_code == 400 and r.json()["error"].startswith("driving_video: its frames are larger than 25 megapixels"), r.text
+    assert growth < MAX_VIDEO_GROWTH, growth
+
+
+def test_a_later_frame_over_the_limit_fails_its_job(client):
+    """A video whose header and first frame are small, its second frame 36 megapixels: its job fails at that frame,
+    which the decoder refuses before it holds its pixels."""
+    video = mjpeg_video([(320, 240), (6000, 6000), (320, 240)], (320, 240))
+    form = {"portrait": ("p.jpg", PORTRAIT), "driving_video": ("v.mkv", video)}
+    job = client.post("/api/video", files=form, data={"size": "64", "method": "global"}).json()
+    deadline = time.time() + 120
+    while (state := client.get(job["status"]).json())["state"] in ("queued", "running") and time.time() < deadline:
+        time.sleep(0.5)
+    assert state["state"] == "failed" and "over its limit" in state["error"], state
+
+
+def test_a_video_too_long_is_refused_from_its_headers(client, tmp_path):
+    """6,000 grey frames (4 minutes at 25 fps, a few hundred kB) held the only video worker for 318 s: over the
+    two-minute bound, refused at the door."""
+    write_video(tmp_path / "long.mp4", (np.full((64, 64, 3), 128, np.uint8) for _ in range(6000)), Fraction(25))
+    form = {"portrait": ("p.jpg", PORTRAIT), "driving_video": ("v.mp4", (tmp_path / "long.mp4").read_bytes())}
+    r = client.post("/api/video", files=form, data={"size": "64"})
+    assert r.status_code == 400 and r.json()["error"].startswith("driving_video: is too long (6000 frames; at most 120 s"), r.text
+
+
+def test_an_idle_live_session_is_closed_and_frees_its_slot():
+    """Two clients that start and then send nothing held live mode for everyone: with ``--live-idle 2`` they are closed
+    after 2 s (an error, then 1008), and a third starts."""
+    server = Server("--workers", "1", "--max-live", "2", "--live-idle", "2")
+    try:
+        sockets = [connect(ws(server), max_size=None) for _ in range(2)]
+        for socket in sockets:
+            socket.send(START)
+            socket.send(PORTRAIT)
+            assert json.loads(socket.recv(timeout=60))["type"] == "ready"
+        started = time.time()
+        for socket in sockets:
+            said, code = refused(socket)
+            assert said == "live: no frame for 2 s: the session ends and its slot is free" and code == 1008
+            socket.close()
+        assert time.time() - started < 10
+        with connect(ws(server), max_size=None) as third:
+            third.send(START)
+            third.send(PORTRAIT)
+            assert json.loads(third.recv(timeout=60))["type"] == "ready"
+    finally:
+        _, err = server.stop()
+    assert "Traceback" not in err, err[-3000:]
+
+
+def test_an_error_quotes_a_short_prefix_of_a_bad_value(client):
+    """A 100 kB field value: the one-line error quotes 40 characters of it, not the whole."""
+    r = client.post("/api/clone", files=files(), data={"method": "x" * 100_000})
+    assert r.status_code == 400 and len(r.text) < 300 and r.json()["error"].startswith("method: unknown method 'xxxx"), r.text[:300]
+
+
+def test_compare_answers_in_the_format_asked(client):
+    r = client.post("/api/compare?format=jpeg", files=files())
+    assert r.status_code == 200 and r.headers["content-type"] == "image/jpeg" and r.content[:2] == b"\xff\xd8"

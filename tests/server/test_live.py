@@ -220,3 +220,9 @@ def test_a_bad_transfer_option_is_refused_at_the_start(live_server):
         bad.send('{"type": "start", "only": ["lips"]}')
         bad.send(samples.path("003").read_bytes())
         assert json.loads(bad.recv())["error"].startswith("only:")
+
+
+def test_the_status_is_json_even_for_an_infinite_lambda():
+    """lambda_k = inf (the local result) was sent as ``Infinity``, which is not JSON: it goes as ``"inf"``."""
+    session = Session(load_image(samples.path("003")), Options(lambda_k=float("inf")), 256)
+    assert json.loads(json.dumps(session.status(True), allow_nan=False))["lambda_k"] == "inf"

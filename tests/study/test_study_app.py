@@ -180,3 +180,18 @@ def test_serving_a_folder_that_is_not_a_study_is_one_line(tmp_path):
         p.returncode == 2
         and p.stderr.strip() == f"exprclone: error: {tmp_path}: not a study folder (no study.json): make one with exprclone study make"
     )
+
+
+def test_an_address_starts_a_few_participants_an_hour(study_folder):
+    """Plain POSTs cannot use up the study's places nor rate as many made-up participants: an address starts at most
+    ``new_per_address`` an hour, the next is answered 429 with when to try again."""
+    client = TestClient(create_app(study_folder, new_per_address=3), raise_server_exceptions=False)
+    [new(client) for _ in range(3)]
+    r = client.post("/api/participants")
+    one_line_error(r, 429, "at most 3 per 3600 s")
+    assert 3500 <= int(r.headers["retry-after"]) <= 3601
+
+
+@pytest.mark.parametrize("path", ["/docs", "/redoc", "/openapi.json"])
+def test_the_study_serves_no_api_documentation(client, path):
+    assert client.get(path).status_code == 404

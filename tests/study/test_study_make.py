@@ -37,6 +37,8 @@ def test_each_set_has_every_method_under_names_that_tell_nothing(made_study):
         assert sorted(by_id[i] for i in s.items) == sorted((k, m) for m in METHODS)
         assert list(s.items) == sorted(s.items)  # by id, not in the methods' order
     assert read_key(made_study).names == tuple(name for name, _, _ in SETS)
+    for s in listed.sets:  # a result's file size says nothing of its method: a set's results are files of one size
+        assert len({(made_study / "images" / f"{i}.png").stat().st_size for i in s.items}) == 1
 
 
 def test_the_key_names_the_method_that_made_each_result(made_study):

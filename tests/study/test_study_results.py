@@ -96,3 +96,12 @@ def test_the_csv_goes_nowhere_it_should_not(rated):
     assert p.returncode == 2 and "unknown output format '.json'" in p.stderr
     p = study("results", rated, "--csv", rated / "gone" / "t.csv")
     assert p.returncode == 2 and "does not exist" in p.stderr
+
+
+def test_a_set_name_a_spreadsheet_would_run_is_written_inert(study_folder, tmp_path):
+    """A set named like a formula reaches the CSV with a leading apostrophe, as the other cells keep their text."""
+    from exprclone.study.results import Cell, csv_text
+
+    text = csv_text([Cell("=HYPERLINK(1)", "e+md", 1, 4.0, float("nan")), Cell("Fig. 11", "global", 1, 3.0, float("nan"))])
+    rows = [line.split(",") for line in text.splitlines()[1:]]
+    assert rows[0][0] == "'=HYPERLINK(1)" and rows[1][0] == "Fig. 11"

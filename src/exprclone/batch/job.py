@@ -31,6 +31,7 @@ from typing import IO, Any
 import numpy as np
 
 from ..errors import ExprCloneError
+from ..io.documents import csv_cell
 from ..io.progress import Display, Progress, Quiet
 from ..landmarks.backends import name_of
 from ..options import Options
@@ -238,7 +239,8 @@ def write_report(path: str, rows: list[Row], outcomes: dict[int, work.Outcome]) 
         for row in rows:
             o = outcomes.get(row.number, work.Outcome(row.number, "not run"))
             lam = "" if o.lambda_k is None else f"{o.lambda_k:g}"
-            writer.writerow([row.number, *row.photos, row.output, o.status, o.error, lam, f"{o.seconds:.3f}", "; ".join(o.warnings)])
+            cells = [*row.photos, row.output, o.status, o.error, lam, f"{o.seconds:.3f}", "; ".join(o.warnings)]
+            writer.writerow([row.number, *map(csv_cell, cells)])
         text.flush()
         text.detach()
 

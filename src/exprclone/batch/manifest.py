@@ -6,7 +6,7 @@ each a row's own value of that option where it is not empty; its paths are relat
 (outputs to ``--out`` when given). The other form puts one expression on every portrait
 of a folder or glob, writing ``OUT/<target name>.png``. A manifest that cannot be used
 (unreadable, columns missing, two rows writing the same output, an output that is one of
-the inputs) stops the job before any work (exit status 2); a bad value in one row (an
+the inputs, outside the output folder or not an image file) stops the job before any work (exit status 2); a bad value in one row (an
 unknown method) only fails that row.
 """
 
@@ -18,7 +18,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import ExprCloneError
+from ..errors import ExprCloneError, quoted
 from ..io.images import PHOTO_SUFFIXES
 from ..options import Options, key, offered
 from ..roles import ROLES
@@ -57,7 +57,18 @@ def _row(number: int, record: dict[str, str], path: str, outputs: Path) -> Row:
     """One manifest row: its photos in the folder of the manifest at ``path``, its output in ``outputs``, its own options
     if given."""
     cells = tuple((column, record[column]) for column in OPTIONAL if record.get(column))
-    return Row(number, *photos_of(record, path), str(outputs / record["output"]), cells)
+    return Row(number, *photos_of(record, path), output_of(record["output"], outputs, path, number), cells)
+
+
+def output_of(name: str, outputs: Path, path: str, number: int) -> str:
+    """Row ``number``'s output file ``name`` in the folder ``outputs``: an image file (:data:`PHOTO_SUFFIXES`) inside it,
+    else ExprCloneError about the manifest at ``path``."""
+    output = (outputs / name).resolve()
+    if not output.is_relative_to(outputs):
+        raise ExprCloneError(path, f"row {number}'s output {quoted(name)} is outside the output folder {outputs}")
+    if output.suffix.lower() not in PHOTO_SUFFIXES:
+        raise ExprCloneError(path, f"row {number}'s output {quoted(name)} is no image file ({', '.join(sorted(PHOTO_SUFFIXES))})")
+    return str(outputs / name)
 
 
 def read_records(path: str, columns: tuple[str, ...]) -> list[dict[str, str]]:

@@ -9,6 +9,7 @@ its request slowly: a public deployment puts a reverse proxy in front (``deploy/
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from ..errors import ExprCloneError
 from ..server.settings import Settings
@@ -28,6 +29,8 @@ BOUNDS: dict[str, tuple[type, float, str, str]] = {
     "job-ttl": (float, 1, " s", "how long a finished video job's result is kept"),
     "video-workers": (int, 1, "", "processes that run video jobs"),
     "max-live": (int, 0, "", "live sessions at once, each in a process of its own; 0 turns live mode off"),
+    "live-idle": (float, 1, " s", "how long a live session may go without a frame before it is closed and its slot freed"),
+    "max-video-seconds": (float, 1, " s", "the longest driving video a job takes (from its headers, and counted as decoded)"),
 }
 #: the defaults of uvicorn's bounds.
 UVICORN = {"max-connections": 64, "keep-alive": 5.0}
@@ -46,10 +49,16 @@ def default(flag: str) -> float:
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     s = sub.add_parser("serve", help="serve the web page and the HTTP API")
     add_address(s)
-    for flag, (kind, minimum, unit, text) in BOUNDS.items():
-        shown = "the number of cores" if flag == "workers" else f"{default(flag):g}{unit}"  # not the build machine's count
-        s.add_argument(f"--{flag}", type=kind, default=default(flag), help=f"{text} (default: {shown})")
+    add_bounds(s, tuple(BOUNDS))
     s.add_argument("--cors", action="append", default=[], metavar="ORIGIN", help="let pages from ORIGIN call the API (repeatable)")
+
+
+def add_bounds(p: argparse.ArgumentParser, flags: tuple[str, ...]) -> None:
+    """The bounds of :data:`BOUNDS` named by ``flags``, each a flag with its default."""
+    for flag in flags:
+        kind, minimum, unit, text = BOUNDS[flag]
+        shown = "the number of cores" if flag == "workers" else f"{default(flag):g}{unit}"  # not the build machine's count
+        p.add_argument(f"--{flag}", type=kind, default=default(flag), help=f"{text} (default: {shown})")
 
 
 def add_address(p: argparse.ArgumentParser) -> None:
@@ -67,16 +76,27 @@ def server_packages() -> None:
         raise ExprCloneError("serve", f"needs the web server's packages ({e.name} is missing): pip install 'exprclone[server]'") from None
 
 
+def check_bounds(args: argparse.Namespace, flags: tuple[str, ...]) -> None:
+    """ExprCloneError naming the first of the bounds ``flags`` given below its least value (NaN too)."""
+    for flag in flags:
+        _, minimum, unit, _ = BOUNDS[flag]
+        value = getattr(args, flag.replace("-", "_"))
+        if not value >= minimum:
+            raise ExprCloneError(f"--{flag}", f"expected at least {minimum:g}{unit}, got {value:g}")
+
+
+def connection_bounds(args: argparse.Namespace) -> dict[str, Any]:
+    """uvicorn's bounds on connections (:data:`UVICORN`'s flags): at most so many at once, idle keep-alive closed."""
+    return {"limit_concurrency": args.max_connections, "timeout_keep_alive": args.keep_alive}
+
+
 def run(args: argparse.Namespace) -> None:
     server_packages()
     import uvicorn
 
     from ..server.app import create_app
 
-    for flag, (_, minimum, unit, _) in BOUNDS.items():
-        value = getattr(args, flag.replace("-", "_"))
-        if not value >= minimum:  # NaN too
-            raise ExprCloneError(f"--{flag}", f"expected at least {minimum:g}{unit}, got {value:g}")
+    check_bounds(args, tuple(BOUNDS))
     fields = {flag.replace("-", "_"): getattr(args, flag.replace("-", "_")) for flag in BOUNDS if flag not in UVICORN}
     fields["max_pixels"] = round(fields.pop("max_megapixels") * 1e6)
     settings = Settings(**fields, cors=tuple(args.cors))
@@ -86,8 +106,7 @@ def run(args: argparse.Namespace) -> None:
         host=args.host,
         port=args.port,
         log_level="warning",
-        limit_concurrency=args.max_connections,
-        timeout_keep_alive=args.keep_alive,
+        **connection_bounds(args),
         ws_max_size=int(args.max_upload_mb * 2**20),
         ws_max_queue=WS_QUEUE,
     )

@@ -10,7 +10,7 @@ from ..options import Options, names
 from .batch import add_workers, backend_of
 from .evaluate import listed
 from .inputs import add_options, options_of
-from .serve import add_address, server_packages
+from .serve import UVICORN, add_address, add_bounds, check_bounds, connection_bounds, server_packages
 
 #: the clone's options of a study, for every set (each set is cloned by every method; a set's own lambda may change it).
 STUDY = tuple(n for n in names(Options) if n not in ("method", "global_landmarks", "eigenfaces"))
@@ -41,6 +41,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     v.add_argument("folder", metavar="DIR", help="a study folder (exprclone study make)")
     add_address(v)
     v.add_argument("--max-participants", type=int, default=1000, help="participants the study takes at most (default: 1000)")
+    v.add_argument("--new-per-address", type=int, default=5, help="participants one client address may start in an hour (default: 5)")
+    add_bounds(v, tuple(UVICORN))
     r = commands.add_parser("results", help="the paper's Table 1: each method's mean score per set and overall, with a 95%% interval")
     r.add_argument("folder", metavar="DIR", help="a study folder with ratings")
     r.add_argument("--csv", metavar="FILE", help="also write one row per set and method: set,method,n,mean,ci95")
@@ -75,11 +77,13 @@ def serve(args: argparse.Namespace) -> None:
 
     from ..study.app import create_app
 
-    if args.max_participants < 1:
-        raise ExprCloneError("--max-participants", f"expected at least 1, got {args.max_participants}")
-    app = create_app(args.folder, args.max_participants)
+    for flag, value in (("--max-participants", args.max_participants), ("--new-per-address", args.new_per_address)):
+        if value < 1:
+            raise ExprCloneError(flag, f"expected at least 1, got {value}")
+    check_bounds(args, tuple(UVICORN))
+    app = create_app(args.folder, args.max_participants, args.new_per_address)
     print(f"exprclone: serving the study {args.folder} on http://{args.host}:{args.port}/ (Ctrl-C to stop)", flush=True)
-    uvicorn.run(app, host=args.host, port=args.port, log_level="warning")
+    uvicorn.run(app, host=args.host, port=args.port, log_level="warning", **connection_bounds(args))
     print("exprclone: stopped", flush=True)
 
 

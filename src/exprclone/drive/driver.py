@@ -31,7 +31,7 @@ from typing import Any
 import cv2
 import numpy as np
 
-from ..errors import ExprCloneError, NoFaceError
+from ..errors import ExprCloneError, NoFaceError, quoted
 from ..geometry import global_warp
 from ..landmarks import align
 from ..landmarks.backends import resolve
@@ -222,7 +222,7 @@ def neutral_index(track: tracking.Track, points: np.ndarray, neutral_frame: int 
     elif isinstance(neutral_frame, int):
         index = neutral_frame
     else:
-        raise ExprCloneError(name, f"the neutral frame must be a frame number or 'closed', got {neutral_frame!r}")
+        raise ExprCloneError(name, f"the neutral frame must be a frame number or 'closed', got {quoted(neutral_frame)}")
     if not 0 <= index < len(points):
         raise ExprCloneError(name, f"no frame {index} (it has {len(points)} frames, numbered from 0)")
     if not track.found[index]:

@@ -23,6 +23,7 @@ from typing import IO, Any
 import numpy as np
 
 from ..errors import ExprCloneError
+from ..io.documents import parse_json
 from ..landmarks.layout import DLIB68
 from ..pipeline.checks import check_points
 from .composite import Face
@@ -71,11 +72,13 @@ def read(path: str | os.PathLike[str]) -> Expression:
 
     path = Path(path)
     try:
-        document = json.loads(path.read_text())
+        document = parse_json(path.read_text(), str(path))
         parts = [(document[part]["image"], document[part]["landmarks"]) for part in PARTS]
         name, description, people = str(document["name"]), str(document.get("description", "")), tuple(document.get("people", ()))
     except OSError as e:
         raise ExprCloneError(path, f"cannot read the expression file: {e.strerror or e}") from None
+    except ExprCloneError:
+        raise
     except (ValueError, KeyError, TypeError) as e:
         raise ExprCloneError(
             path, f"not an expression file (JSON with name, neutral and expression, each an image and landmarks): {e}"

@@ -236,7 +236,7 @@ def _open(path: PathLike | bytes, name: str, max_pixels: int | None) -> tuple[Im
             image.close()
         if isinstance(exc, ExprCloneError):
             raise
-        raise _read_error(name, exc) from exc
+        raise _read_error(name, exc, max_pixels) from exc
     return image, rawmode
 
 
@@ -248,16 +248,17 @@ def _stored_rawmode(image: ImageFile.ImageFile) -> str:
     return args[0] if isinstance(args, tuple) else str(args)
 
 
-def _read_error(name: str, exc: BaseException) -> ExprCloneError:
-    """The ExprCloneError for a failure to open or decode the image called ``name``."""
+def _read_error(name: str, exc: BaseException, max_pixels: int | None = None) -> ExprCloneError:
+    """The ExprCloneError for a failure to open or decode the image called ``name`` (its size bounded by ``max_pixels``)."""
     if isinstance(exc, FileNotFoundError):
         problem = "no such file"
     elif isinstance(exc, PermissionError):
         problem = "cannot be read (permission denied)"
     elif isinstance(exc, UnidentifiedImageError):
         problem = "not an image (cannot be read by Pillow)"
-    elif isinstance(exc, Image.DecompressionBombError):
-        problem = f"image is too large ({exc})"
+    elif isinstance(exc, Image.DecompressionBombError):  # Pillow's own guard, in its header: said as check_size says it
+        limit = max_pixels or Image.MAX_IMAGE_PIXELS or 0
+        problem = f"image is too large (at most {limit / 1e6:g} megapixels)"
     elif isinstance(exc, OSError) and exc.errno is not None:
         problem = f"cannot be read ({exc.strerror})"
     else:

@@ -8,9 +8,10 @@ import re
 
 import numpy as np
 
-from ..errors import ExprCloneError
+from ..errors import ExprCloneError, quoted
 from ..landmarks.layout import DLIB68
 from ..pipeline.checks import check_face, check_finite, check_points
+from .documents import parse_json
 from .frl_template import frl_to_68
 from .images import atomic_write
 
@@ -21,7 +22,6 @@ MAX_CHARS = 1_000_000
 #: the deepest nesting of brackets a JSON landmark file may have (``{"landmarks": [[x, y], ...]}`` has 3).
 MAX_DEPTH = 8
 #: a JSON string (skipped when the nesting is measured).
-_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
 
 
 def read_tem(path: str | os.PathLike[str]) -> np.ndarray:
@@ -54,7 +54,7 @@ def parse_tem(text: str, name: str) -> np.ndarray:
     lines = text.splitlines()
     header = lines[0].strip() if lines else ""
     if not re.fullmatch(r"[0-9]{1,6}", header):
-        raise ExprCloneError(name, f"not a .tem template (the first line must be the point count, got {_quoted(header)})")
+        raise ExprCloneError(name, f"not a .tem template (the first line must be the point count, got {quoted(header)})")
     count = int(header)
     if count != TEM_POINTS:
         raise ExprCloneError(name, f"{count} template points, expected the {TEM_POINTS}-point Face Research Lab template")
@@ -68,7 +68,7 @@ def parse_tem(text: str, name: str) -> np.ndarray:
                 raise ValueError
             points[k] = [float(fields[0]), float(fields[1])]
         except ValueError:
-            raise ExprCloneError(name, f"not a .tem template (line {k + 2} should be 'x y', got {_quoted(lines[1 + k])})") from None
+            raise ExprCloneError(name, f"not a .tem template (line {k + 2} should be 'x y', got {quoted(lines[1 + k])})") from None
     check_finite(points, name)
     return points
 
@@ -153,36 +153,12 @@ def _parse_json_points(text: str, name: str) -> np.ndarray:
     integer of any length too: a huge one becomes infinite, and :func:`check_points` refuses it, as it
     refuses the NaN and Infinity that Python writes).
     """
-    depth = json_depth(text)
-    if depth > MAX_DEPTH:
-        raise ExprCloneError(name, f"invalid landmark file (brackets nested {depth} deep; at most {MAX_DEPTH})")
-    try:
-        data = json.loads(text, parse_int=float)
-    except json.JSONDecodeError as e:
-        raise ExprCloneError(name, f"invalid JSON ({e.msg} at line {e.lineno}, column {e.colno})") from None
+    data = parse_json(text, name, MAX_DEPTH, parse_int=float)
     if isinstance(data, dict):
         data = data.get("landmarks")
     if not isinstance(data, list) or not all(isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in data):
         raise ExprCloneError(name, 'expected a list of [x, y] pairs or {"landmarks": [[x, y], ...]}')
     return np.array(data, dtype=np.float64).reshape(-1, 2)
-
-
-def json_depth(text: str) -> int:
-    """How deep the brackets of a JSON text nest, strings aside (without parsing it: a linear scan).
-
-    Examples
-    --------
-    >>> json_depth('{"landmarks": [[1, 2], [3, 4]], "note": "[[["}')
-    3
-    """
-    brackets = np.frombuffer(_JSON_STRING.sub("", text).encode("ascii", "replace"), np.uint8)
-    steps = np.isin(brackets, (ord("["), ord("{"))).astype(np.int64) - np.isin(brackets, (ord("]"), ord("}")))
-    return int(np.cumsum(steps).max(initial=0))
-
-
-def _quoted(text: str, most: int = 40) -> str:
-    """``text`` quoted for a message, cut to its first ``most`` characters."""
-    return repr(text) if len(text) <= most else f"{text[:most]!r}..."
 
 
 def _is_number(value: object) -> bool:

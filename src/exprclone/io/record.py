@@ -9,9 +9,11 @@ if TYPE_CHECKING:
     from ..pipeline.cloner import CloneResult
 
 
-def _number(value: float | None) -> float | str | None:
-    """A float for JSON: infinity as the string ``"inf"`` (JSON has none)."""
-    return None if value is None else ("inf" if math.isinf(value) else float(value))
+def json_number(value: float | str | None) -> float | str | None:
+    """A number for JSON: infinity as the string ``"inf"`` (JSON has none); a string (``"auto"``) or None as it is."""
+    if value is None or isinstance(value, str):
+        return value
+    return "inf" if math.isinf(value) else float(value)
 
 
 def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]:
@@ -44,8 +46,10 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
             "only": None if options.only is None else list(options.only),
             "retarget": options.retarget,
         },
-        "lambda_k": _number(result.lambda_k),
-        "db_curve": None if curve is None else [{"lambda_k": _number(lam), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],
+        "lambda_k": json_number(result.lambda_k),
+        "db_curve": None
+        if curve is None
+        else [{"lambda_k": json_number(lam), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],
         "muscle_strengths": None if result.muscle_strengths is None else [float(h) for h in result.muscle_strengths],
         "unfolded_points": result.unfolded_points,
         "warnings": list(result.warnings),

@@ -21,14 +21,14 @@ import os
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import IO
+from typing import IO, Any
 
 import av
 import numpy as np
 from av.video.reformatter import ColorRange, Colorspace
 
 from ..errors import ExprCloneError
-from .images import PathLike, atomic_write, check_output_path
+from .images import PathLike, atomic_write, check_output_path, check_size
 
 CRF = 18
 """x264 constant rate factor: 18 is close to visually lossless; each +6 halves the size."""
@@ -55,6 +55,45 @@ _COLOR_TAGS = {"colorspace": 1, "color_primaries": 1, "color_trc": 1, "color_ran
 # (unspecified; BT.2020, which is HDR and would need tone mapping anyway) gets swscale's default,
 # BT.601. PyAV before 18 ignores the tags unless told.
 _MATRICES = {1: Colorspace.ITU709, 4: Colorspace.FCC, 5: Colorspace.ITU601, 6: Colorspace.SMPTE170M, 7: Colorspace.SMPTE240M}
+
+
+#: the streams of a file whose probe is bounded (:attr:`Limits.max_pixels`): more than any video a user sends has.
+PROBED_STREAMS = 16
+#: the highest frame rate a bounded video's length is counted at (:attr:`Limits.max_seconds`): headers may claim any.
+MAX_FPS = 60.0
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Bounds on a video from outside (a server's upload): its frames' pixels, and how long it runs.
+
+    Attributes
+    ----------
+    max_pixels : int or None
+        The most pixels a frame may have, as photos' are bounded (:func:`exprclone.io.images.check_size`).
+    max_seconds : float or None
+        The longest it may run: its headers' duration, and the frames decoded at its frame rate (at most
+        :data:`MAX_FPS`, whatever the headers say).
+    """
+
+    max_pixels: int | None = None
+    max_seconds: float | None = None
+
+    def max_frames(self, fps: Fraction) -> int | None:
+        """The most frames a video of ``fps`` may have."""
+        return None if self.max_seconds is None else math.ceil(self.max_seconds * min(float(fps), MAX_FPS))
+
+    def decoder(self) -> dict[str, str]:
+        """FFmpeg's decoder options that refuse a frame over :attr:`max_pixels` before allocating it."""
+        return {"max_pixels": str(self.max_pixels)}
+
+    def check_frame(self, path: PathLike, count: int, width: int, height: int, fps: Fraction) -> None:
+        """ExprCloneError about ``path`` if its ``count``-th frame (from 1), of ``width`` by ``height``, is over a limit."""
+        most = self.max_frames(fps)
+        if most is not None and count > most:
+            raise ExprCloneError(path, f"is too long (more than {self.max_seconds:g} s: {most} frames)")
+        if self.max_pixels is not None:
+            check_size(width, height, f"{os.fspath(path)} (frame {count - 1})", self.max_pixels)
 
 
 @dataclass(frozen=True)
@@ -84,13 +123,16 @@ class VideoInfo:
     has_audio: bool
 
 
-def probe(path: PathLike) -> VideoInfo:
+def probe(path: PathLike, limits: Limits | None = None) -> VideoInfo:
     """Describe the video in ``path`` without decoding it.
 
     Parameters
     ----------
     path : str or os.PathLike
         A video file in any format FFmpeg reads.
+    limits : Limits, optional
+        Refuse, from its headers, frames larger than ``limits.max_pixels`` (FFmpeg's probe
+        decodes no frame larger either) and a video longer than ``limits.max_seconds``.
 
     Returns
     -------
@@ -109,10 +151,10 @@ def probe(path: PathLike) -> VideoInfo:
     ...
     exprclone.errors.ExprCloneError: missing.mp4: no such file
     """
-    with _open_input(path) as container:
+    with _open_input(path, limits) as container:
         stream = container.streams.video[0]
         fps = _frame_rate(path, stream)
-        return VideoInfo(
+        info = VideoInfo(
             path=os.fspath(path),
             width=stream.codec_context.width,
             height=stream.codec_context.height,
@@ -120,9 +162,13 @@ def probe(path: PathLike) -> VideoInfo:
             frames=stream.frames or _estimated_frames(container, stream, fps),
             has_audio=bool(container.streams.audio),
         )
+    most = None if limits is None else limits.max_frames(fps)
+    if limits is not None and most is not None and info.frames > most:
+        raise ExprCloneError(path, f"is too long ({info.frames} frames; at most {limits.max_seconds:g} s: {most} frames)")
+    return info
 
 
-def read_frames(path: PathLike) -> Iterator[np.ndarray]:
+def read_frames(path: PathLike, limits: Limits | None = None) -> Iterator[np.ndarray]:
     """Decode every frame of the video in ``path``, in order.
 
     The file is opened (and checked) at the call; the frames are decoded one at a time as the
@@ -132,6 +178,10 @@ def read_frames(path: PathLike) -> Iterator[np.ndarray]:
     ----------
     path : str or os.PathLike
         A video file in any format FFmpeg reads.
+    limits : Limits, optional
+        As for :func:`probe`, and checked on every frame as it is decoded: the decoder refuses a
+        frame larger than ``limits.max_pixels`` before it holds its pixels (a later frame may be
+        larger than the first), and the frames stop with an error past ``limits.max_seconds``.
 
     Returns
     -------
@@ -143,8 +193,8 @@ def read_frames(path: PathLike) -> Iterator[np.ndarray]:
     ExprCloneError
         At the call, as :func:`probe`; while iterating, if the video data cannot be decoded.
     """
-    container = _open_input(path)
-    return _decode(path, container)
+    container = _open_input(path, limits)
+    return _decode(path, container, limits)
 
 
 def write_video(
@@ -368,12 +418,15 @@ def _even(frame: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(frame)
 
 
-def _open_input(path: PathLike) -> av.container.InputContainer:
-    """Open ``path`` for reading and check that it is a video with a video stream."""
+def _open_input(path: PathLike, limits: Limits | None = None) -> av.container.InputContainer:
+    """Open ``path`` for reading and check that it is a video with a video stream (of frames within ``limits``, read
+    from its headers)."""
     if os.path.isdir(path):
         raise ExprCloneError(path, "is a directory")
+    # each stream's decoder options (PyAV's stubs say strings: typed Any here)
+    bounded: dict[str, Any] = {} if limits is None or limits.max_pixels is None else {"stream_options": [limits.decoder()] * PROBED_STREAMS}
     try:
-        container = av.open(os.fspath(path))
+        container = av.open(os.fspath(path), **bounded)
     except FileNotFoundError as exc:
         raise ExprCloneError(path, "no such file") from exc
     except PermissionError as exc:
@@ -386,16 +439,33 @@ def _open_input(path: PathLike) -> av.container.InputContainer:
     if not container.streams.video:
         container.close()
         raise ExprCloneError(path, "has no video stream")
+    if limits is not None and limits.max_pixels is not None:
+        context = container.streams.video[0].codec_context
+        try:
+            if not context.width * context.height:
+                raise ExprCloneError(
+                    path, f"its frames are larger than {limits.max_pixels / 1e6:g} megapixels, or of no size its headers tell"
+                )
+            check_size(context.width, context.height, os.fspath(path), limits.max_pixels)
+        except ExprCloneError:
+            container.close()
+            raise
     return container
 
 
-def _decode(path: PathLike, container: av.container.InputContainer) -> Iterator[np.ndarray]:
-    """The frames of the first video stream of ``container`` as (H, W, 3) uint8 RGB arrays; closes it at the end."""
+def _decode(path: PathLike, container: av.container.InputContainer, limits: Limits | None = None) -> Iterator[np.ndarray]:
+    """The frames of the first video stream of ``container`` as (H, W, 3) uint8 RGB arrays, within ``limits``; closes it
+    at the end."""
     with container:
         stream = container.streams.video[0]
         stream.thread_type = "AUTO"
+        if limits is not None and limits.max_pixels is not None:
+            stream.codec_context.options = limits.decoder()  # FFmpeg refuses a larger frame before it allocates it
+        fps = _frame_rate(path, stream)
         try:
-            for frame in container.decode(stream):
+            for count, frame in enumerate(container.decode(stream), 1):
+                if limits is not None:
+                    limits.check_frame(path, count, frame.width, frame.height, fps)
                 matrix = _MATRICES.get(frame.colorspace, Colorspace.DEFAULT)
                 # (PyAV 14 skips the conversion details when source and destination colorspace are equal.)
                 rgb = frame.to_ndarray(
@@ -404,7 +474,13 @@ def _decode(path: PathLike, container: av.container.InputContainer) -> Iterator[
                 # to_ndarray returns a view of FFmpeg's row-padded buffer: give a C-contiguous copy of its own
                 yield np.ascontiguousarray(rgb)
         except av.FFmpegError as exc:
-            raise ExprCloneError(path, f"video data is corrupt ({exc.strerror})") from exc
+            too_large = limits is not None and limits.max_pixels is not None
+            raise ExprCloneError(
+                path,
+                f"video data is corrupt, or a frame is over its limit ({exc.strerror})"
+                if too_large
+                else f"video data is corrupt ({exc.strerror})",
+            ) from exc
 
 
 def _frame_rate(path: PathLike, stream: av.video.stream.VideoStream) -> Fraction:

@@ -12,12 +12,12 @@ from typing import Annotated, Any
 
 from fastapi import APIRouter, Depends, File, Form, Query, UploadFile
 from fastapi.responses import FileResponse, JSONResponse, Response
+from pydantic import WithJsonSchema
 
 from .. import __version__, expressions
 from .. import data as samples
-from ..errors import ExprCloneError, naming
-from ..io.images import check_size
-from ..io.video import probe
+from ..errors import ExprCloneError, quoted
+from ..io.video import Limits
 from ..methods import FIGURES
 from ..options import Driving, Framing, Options, names, spec
 from ..roles import ROLES, SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
@@ -41,10 +41,12 @@ SAMPLES: dict[str, Callable[[], Path]] = {
 #: what the landmark files may be (their client file name's extension is the only part of it used).
 LANDMARK_EXTENSIONS = (".json", ".tem")
 
+#: an optional file's schema: a file, not "a file or null" (a form cannot say null; clients would send the text).
+MaybeFile = Annotated[UploadFile | None, WithJsonSchema({"type": "string", "contentMediaType": "application/octet-stream"})]
 Photo = Annotated[UploadFile, File(description="a photo (JPEG, PNG, ...)")]
-SourcePhoto = Annotated[UploadFile | None, File(description="a photo of the source person (JPEG, PNG, ...); not with expression")]
-Landmarks = Annotated[UploadFile | None, File(description='its landmarks: .json ([[x, y], ...] or {"landmarks": ...}) or a .tem template')]
-GlobalLandmarks = Annotated[UploadFile | None, File(description=spec(Options, "global_landmarks").help)]
+SourcePhoto = Annotated[MaybeFile, File(description="a photo of the source person (JPEG, PNG, ...); not with expression")]
+Landmarks = Annotated[MaybeFile, File(description='its landmarks: .json ([[x, y], ...] or {"landmarks": ...}) or a .tem template')]
+GlobalLandmarks = Annotated[MaybeFile, File(description=spec(Options, "global_landmarks").help)]
 #: the clone's options of each route, as form fields (:func:`exprclone.server.forms.options_form`).
 CloneOptions = Annotated[Asked, Depends(options_form(Options))]
 CompareOptions = Annotated[Asked, Depends(options_form(Options, tuple(n for n in names(Options) if n != "method")))]
@@ -82,7 +84,7 @@ async def clone_request(server: Server, uploads: dict[str, Any], asked: Asked, f
     """The checked request: the options checked (by the form), three photos (or the target's and a built-in
     ``expression``, :func:`source_roles`) and any landmark files read."""
     if figure not in FIGURES:
-        raise ExprCloneError("figure", f"must be {' or '.join(FIGURES)}, got {figure!r}")
+        raise ExprCloneError("figure", f"must be {' or '.join(FIGURES)}, got {quoted(figure)}")
     expression = uploads["expression"]
     roles = source_roles(uploads, expression)
     sn, se = [await read_upload(uploads[role], role) if role in roles else None for role in ROLES[:2]]
@@ -217,22 +219,37 @@ async def clone(
     return Response(encoded, media_type=media_type)
 
 
+#: the compare sheet's answer by ``format``: its file extension and media type.
+SHEETS = {name: ANSWERS[name] for name in ("png", "jpeg", "webp")}
+
+
 @router.post(
-    "/api/compare", responses={200: {"content": {"image/png": {}}, "description": "the sheet of Figs. 11-13"}, **errors(400, 413, 422, 503)}
+    "/api/compare",
+    responses={
+        200: {"content": {"image/png": {}, "image/jpeg": {}, "image/webp": {}}, "description": "the sheet of Figs. 11-13"},
+        **errors(400, 413, 422, 503),
+    },
 )
 async def compare(
     server: Server,
     uploads: Uploads,
     asked: CompareOptions,
     figure: Annotated[
-        str, Form(description="11: Figs. 11-13 and the DB curve; 19: the elastic model on the RBF result (Figs. 19-21)")
+        str,
+        Form(
+            description="11: Figs. 11-13 and the DB curve; 19: the elastic model on the RBF result (Figs. 19-21)",
+            json_schema_extra={"enum": list(FIGURES)},
+        ),
     ] = FIGURES[0],
+    format: Annotated[str, Query(pattern=f"^({'|'.join(SHEETS)})$", description="png (default), jpeg or webp")] = "png",
 ) -> Response:
-    """Every method of Fig. 11, the difference images of Figs. 12-13 and the DB curve, as one PNG sheet; or Figs. 19-21
-    (``figure=19``: the elastic model on the RBF transfer's result, or on ``global_landmarks``)."""
+    """Every method of Fig. 11, the difference images of Figs. 12-13 and the DB curve, as one sheet (PNG, JPEG or WebP:
+    ``?format=``); or Figs. 19-21 (``figure=19``: the elastic model on the RBF transfer's result, or on
+    ``global_landmarks``)."""
     request = await clone_request(server, uploads, asked, figure)
-    sheet = await server.run(work.compare, request)
-    return Response(sheet, media_type="image/png")
+    extension, media_type = SHEETS[format]
+    sheet = await server.run(work.compare, request, extension)
+    return Response(sheet, media_type=media_type)
 
 
 @router.post("/api/video", status_code=202, responses=errors(400, 413, 422, 503))
@@ -255,11 +272,11 @@ async def video(
     try:
         with job.video.open("wb") as out:
             await asyncio.to_thread(shutil.copyfileobj, driving_video.file, out)
-        with naming({str(job.video): "driving_video"}):
-            info = await asyncio.to_thread(probe, job.video)  # a file that is not a video fails now, not in the job
-        check_size(info.width, info.height, "driving_video", server.settings.max_pixels)  # its frames are bounded as photos are
+        limits = Limits(server.settings.max_pixels, server.settings.max_video_seconds)  # its frames bounded as photos are
+        # a file that is not a video, or is over the limits, fails now, not in the job; probed in a worker
+        await server.run(work.probe_video, str(job.video), limits)
         files = (str(job.video), str(job.result), str(job.progress_file))
-        task = work.VideoRequest(photo, *files, options, driving.options, framing.options, server.settings.max_pixels)
+        task = work.VideoRequest(photo, *files, options, driving.options, framing.options, limits)
         server.jobs.start(job, server.video_pool.submit(work.video, task))
     except BaseException:
         server.jobs.discard(job)

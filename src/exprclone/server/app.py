@@ -28,7 +28,7 @@ from .. import __version__
 from ..errors import ExprCloneError, NoFaceError
 from .api import router
 from .jobs import NoSuchJob
-from .limits import Busy, UploadLimit
+from .limits import Busy, TooMany, UploadLimit
 from .live import router as live_router
 from .openapi import document
 from .settings import Settings
@@ -65,6 +65,7 @@ def add_error_answers(app: FastAPI, statuses: dict[type[Exception], int] | None 
     app.add_exception_handler(ExprCloneError, lambda request, e: _error(400, str(e)))
     app.add_exception_handler(RequestValidationError, lambda request, e: _error(400, _validation_message(e)))
     app.add_exception_handler(Busy, lambda request, e: _error(503, str(e), {"Retry-After": str(e.retry_after)}))
+    app.add_exception_handler(TooMany, lambda request, e: _error(429, str(e), {"Retry-After": str(e.retry_after)}))
     app.add_exception_handler(NoSuchJob, lambda request, e: _error(404, str(e)))
     app.add_exception_handler(HTTPException, lambda request, e: _error(e.status_code, str(e.detail), e.headers))
 

@@ -36,8 +36,10 @@ def options_form(cls: type, chosen: tuple[str, ...] | None = None) -> Callable[.
     for name in names:
         option, value = spec(cls, name), getattr(default, name)
         said = "" if value is None else f" (default: {str(value).lower() if isinstance(value, bool) else value})"
-        field = Form(alias=key(cls, name) if key(cls, name) != name else None, description=option.help + said)
-        annotation = Annotated[option.kind | None, field]  # type: ignore[name-defined]
+        extra = ({"enum": list(option.choices)} if option.choices else {}) | dict(option.schema)  # in the schema; checked here
+        alias = key(cls, name) if key(cls, name) != name else None
+        field = Form(alias=alias, description=option.help + said, json_schema_extra=extra or None)
+        annotation = Annotated[option.kind, field]  # type: ignore[name-defined]  # absent is None; a form cannot say null
         parameters.append(inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=None, annotation=annotation))
 
     async def read(**fields: Any) -> Asked:

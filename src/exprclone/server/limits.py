@@ -18,6 +18,36 @@ class Busy(Exception):
         self.retry_after = retry_after
 
 
+class Paced:
+    """At most ``count`` of a kind of request per client address in ``seconds``; the next is refused, answered 429 with
+    ``Retry-After`` (:class:`TooMany`). At most ``clients`` addresses are remembered (the oldest forgotten first).
+
+    Used from the event loop only, so plain containers are safe.
+    """
+
+    def __init__(self, count: int, seconds: float, clients: int = 10_000) -> None:
+        self.count, self.seconds, self.clients = count, seconds, clients
+        self.seen: dict[str, list[float]] = {}
+
+    def admit(self, client: str, now: float) -> None:
+        """Count a request of ``client`` at ``now`` (seconds), or :class:`TooMany` if it has had ``count`` already."""
+        times = [t for t in self.seen.pop(client, []) if t > now - self.seconds]
+        if len(times) >= self.count:
+            self.seen[client] = times
+            raise TooMany(f"at most {self.count} per {self.seconds:g} s from one address", int(times[0] + self.seconds - now) + 1)
+        self.seen[client] = times + [now]
+        while len(self.seen) > self.clients:
+            del self.seen[next(iter(self.seen))]
+
+
+class TooMany(Exception):
+    """A client asked too often (:class:`Paced`): answered 429 with ``Retry-After: retry_after`` seconds."""
+
+    def __init__(self, message: str, retry_after: int) -> None:
+        super().__init__(message)
+        self.retry_after = retry_after
+
+
 class Gate:
     """At most ``limit`` requests at work or waiting for a worker; the next is refused (:class:`Busy`).
 

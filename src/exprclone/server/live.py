@@ -18,11 +18,13 @@ the elastic model runs with ``lambda_k = 0``, which gives the global positions G
 (:class:`Session`).
 
 Misuse. A connection holds a session slot from its start message on, and must send that
-message and the portrait within :data:`START_SECONDS`. A message of the wrong kind (binary
+message and the portrait within :data:`START_SECONDS`, and then a frame at least every
+``Settings.live_idle`` seconds (``--live-idle``). A message of the wrong kind (binary
 where text goes, or the reverse), text that is not a JSON object of a known ``type`` with
-fields of the right JSON types (:data:`FIELDS`), a frame that is not a JPEG or PNG within
+fields of the right JSON types (:data:`FIELDS`, nested at most
+:data:`exprclone.io.documents.MAX_DEPTH` deep), a frame that is not a JPEG or PNG within
 the uploads' size bounds (read from its header, before decoding), a start the server cannot
-use (a bad option, a portrait without a face) or a start when every slot is taken is
+use (a bad option, a portrait without a face), no frame for ``live_idle`` seconds, or a start when every slot is taken is
 answered by ``{"type": "error", "error"}``, then the connection is closed with a code of
 RFC 6455: 1003 (wrong kind), 1013 (no slot free: try again later) or 1008 (anything else).
 A bad value in an ``options`` message (an unknown method, a strength out of range) is
@@ -45,7 +47,7 @@ from typing import Any
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 
-from ..errors import ExprCloneError
+from ..errors import ExprCloneError, quoted
 from ..options import Framing, Options, from_json
 from .protocol import POLICY, SEQUENCE, START_SECONDS, Misuse, Slots, check_frame, parse_message, receive, refuse
 from .session import SIZES, Session
@@ -63,7 +65,7 @@ async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, slots: Slot
         raise Misuse("live", 'the first message must be {"type": "start", ...}')
     options, size = Options.from_json(start), from_json(Framing, start).size
     if size not in SIZES:
-        raise ExprCloneError("size", f"must be one of {', '.join(map(str, SIZES))}, got {size!r}")
+        raise ExprCloneError("size", f"must be one of {', '.join(map(str, SIZES))}, got {quoted(size)}")
     slots.take()
     portrait = await receive(websocket, "bytes", deadline)
     loop = asyncio.get_running_loop()
@@ -81,7 +83,7 @@ async def live(websocket: WebSocket, server: Server) -> None:
     try:
         session = await _start(websocket, executor, slots)
         await websocket.send_json({"type": "ready", "width": session.portrait.shape[1], "height": session.portrait.shape[0]})
-        await _follow(websocket, session, executor, server.settings.max_pixels)
+        await _follow(websocket, session, executor, server.settings.max_pixels, server.settings.live_idle)
     except ExprCloneError as e:
         await refuse(websocket, e, e.code if isinstance(e, Misuse) else POLICY)
     except WebSocketDisconnect:
@@ -91,18 +93,24 @@ async def live(websocket: WebSocket, server: Server) -> None:
         executor.shutdown(wait=False, cancel_futures=True)
 
 
-async def _follow(websocket: WebSocket, session: Session, executor: ThreadPoolExecutor, max_pixels: int | None) -> None:
-    """Receive frames, keep only the newest, answer each one processed; until the page goes, or breaks the protocol."""
+async def _follow(websocket: WebSocket, session: Session, executor: ThreadPoolExecutor, max_pixels: int | None, idle: float) -> None:
+    """Receive frames, keep only the newest, answer each one processed; until the page goes, breaks the protocol, or
+    sends no frame for ``idle`` seconds."""
     newest: list[bytes] = []
     arrived = asyncio.Event()
     loop = asyncio.get_running_loop()
 
     async def receive() -> None:
+        last = loop.time()
         while True:
-            message = await websocket.receive()
+            try:
+                message = await asyncio.wait_for(websocket.receive(), timeout=max(last + idle - loop.time(), 0.0))
+            except asyncio.TimeoutError:
+                raise Misuse("live", f"no frame for {idle:g} s: the session ends and its slot is free") from None
             if message["type"] == "websocket.disconnect":
                 raise WebSocketDisconnect(message.get("code", 1000))
             if message.get("bytes") is not None:
+                last = loop.time()
                 check_frame(message["bytes"], max_pixels)
                 newest[:] = [message["bytes"]]  # an older frame not yet taken is dropped
                 arrived.set()

@@ -17,6 +17,7 @@ from typing import Any, Literal, overload
 from fastapi import WebSocket, WebSocketDisconnect
 
 from ..errors import ExprCloneError
+from ..io.documents import parse_json
 from ..options import Framing, Options, expected, json_kinds
 from .state import Work
 
@@ -61,8 +62,8 @@ def check_message(message: dict[str, Any]) -> dict[str, Any]:
 def parse_message(text: str) -> dict[str, Any]:
     """A text message: a JSON object with a known ``type`` and fields of the right types, or :class:`Misuse` about ``live``."""
     try:
-        message = json.loads(text) if len(text) <= MAX_TEXT else None
-    except ValueError:
+        message = parse_json(text, "live") if len(text) <= MAX_TEXT else None
+    except ExprCloneError:
         message = None
     if not isinstance(message, dict):
         raise Misuse("live", f"a text message must be a JSON object of at most {MAX_TEXT} characters")

@@ -16,7 +16,8 @@ from .. import drive
 from ..drive import driver as driving
 from ..drive import tracking
 from ..drive.framing import resize_portrait
-from ..errors import ExprCloneError
+from ..errors import ExprCloneError, quoted
+from ..io.record import json_number
 from ..landmarks.backends import for_thread, name_of
 from ..landmarks.layout import DLIB68
 from ..mouth.measure import opening
@@ -74,7 +75,7 @@ class Session:
 
     def __init__(self, portrait: np.ndarray, options: Options, size: int) -> None:
         if size not in SIZES:
-            raise ExprCloneError("size", f"must be one of {', '.join(map(str, SIZES))}, got {size!r}")
+            raise ExprCloneError("size", f"must be one of {', '.join(map(str, SIZES))}, got {quoted(size)}")
         self.options = options
         self.detector = for_thread(name_of(options.landmarker))
         self.portrait, _ = resize_portrait(portrait, None, size)
@@ -119,7 +120,7 @@ class Session:
         """Release what the session holds: nothing here (a :class:`~exprclone.server.rendering.RemoteSession` gives its process back)."""
 
     def status(self, face: bool) -> dict[str, Any]:
-        return {"type": "status", "face": face, "neutral": self.driver is not None, "lambda_k": self.chosen}
+        return {"type": "status", "face": face, "neutral": self.driver is not None, "lambda_k": json_number(self.chosen)}
 
     def process(self, content: bytes, t: float) -> tuple[bytes, dict[str, Any]]:
         """The output frame, as JPEG, for a camera frame (JPEG) arriving at ``t`` seconds; and the session's status."""

@@ -30,6 +30,10 @@ class Settings:
     max_live : int
         Live sessions at once (:mod:`exprclone.server.live`; each renders in a process of its own,
         :mod:`exprclone.server.rendering`).
+    live_idle : float
+        Seconds a live session may go without a frame before it is closed and its slot freed.
+    max_video_seconds : float
+        The longest driving video a job takes (read from its headers, and counted as it is decoded).
     cors : tuple of str
         Origins allowed to call the API from other pages (none by default).
     """
@@ -42,4 +46,6 @@ class Settings:
     job_ttl: float = 3600.0
     video_workers: int = 1
     max_live: int = 2
+    live_idle: float = 30.0
+    max_video_seconds: float = 120.0
     cors: tuple[str, ...] = ()

@@ -21,6 +21,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import naming
+from ..io.record import json_number
+from ..io.video import Limits
 from ..options import Driving, Framing, Options
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 
@@ -78,7 +80,7 @@ class VideoRequest:
     options: Options
     driving: Driving
     framing: Framing
-    max_pixels: int | None
+    limits: Limits
 
 
 def load_models() -> None:
@@ -178,8 +180,9 @@ def clone(request: CloneRequest, extension: str = ".png") -> tuple[bytes, dict[s
     return encode_image(result.image, extension), record
 
 
-def compare(request: CloneRequest) -> bytes:
-    """``POST /api/compare``: the sheet of Figs. 11-13, or of Figs. 19-21, as PNG (as ``exprclone compare --figure`` draws them)."""
+def compare(request: CloneRequest, extension: str = ".png") -> bytes:
+    """``POST /api/compare``: the sheet of Figs. 11-13, or of Figs. 19-21, encoded as a file of ``extension`` (as
+    ``exprclone compare --figure`` draws them)."""
     from ..evaluation.figures import draw, figure_request
     from ..io.images import encode_image
     from ..pipeline.clone import clone_methods
@@ -187,7 +190,17 @@ def compare(request: CloneRequest) -> bytes:
     images, points, options = _inputs(request)
     methods, options = figure_request(request.figure, options, "global_warp" in request.given)
     results = clone_methods(*images, methods, landmarks=points, options=options)
-    return encode_image(draw(request.figure, results, images), ".png")
+    return encode_image(draw(request.figure, results, images), extension)
+
+
+def probe_video(path: str, limits: Limits) -> dict[str, Any]:
+    """A driving video checked before its job starts, in a worker (inside the server's bounds on work): a video, its
+    frames within ``limits`` as its headers give them (:func:`exprclone.io.video.probe`); its size and frame rate."""
+    from ..io.video import probe
+
+    with naming({path: "driving_video"}):
+        info = probe(path, limits)
+    return {"width": info.width, "height": info.height, "fps": float(info.fps), "frames": info.frames}
 
 
 def video(request: VideoRequest) -> dict[str, Any]:
@@ -203,19 +216,24 @@ def video(request: VideoRequest) -> dict[str, Any]:
     from ..io import video as video_io
 
     with naming({request.video: "driving_video", request.output: "result"}):
-        portrait, _ = resize_portrait(_image(request.portrait, request.max_pixels), None, request.framing.size)
-        fps = video_io.probe(request.video).fps
-        opened = lambda: video_io.read_frames(request.video)  # noqa: E731
-        recording = drive.prepare(portrait, None, opened, float(fps), options=request.options, driving=request.driving)
-        frames = _reporting(recording, video_io.read_frames(request.video), request)
+        portrait, _ = resize_portrait(_image(request.portrait, request.limits.max_pixels), None, request.framing.size)
+        fps = video_io.probe(request.video, request.limits).fps
+        recording = drive.prepare(portrait, None, lambda: opened(request), float(fps), options=request.options, driving=request.driving)
+        frames = _reporting(recording, opened(request), request)
         written = video_io.write_video(request.output, frames, fps, audio_from=request.video)
-    lam = recording.driver.lambda_k
     return {
         "frames": written,
-        "lambda_k": lam if lam is None or isinstance(lam, str) else float(lam),
+        "lambda_k": json_number(recording.driver.lambda_k),
         "neutral_frame": recording.neutral_index,
         "frames_without_face": int((~recording.track.found).sum()),
     }
+
+
+def opened(request: VideoRequest) -> Iterator[np.ndarray]:
+    """A new pass over a job's driving video, within its limits."""
+    from ..io.video import read_frames
+
+    return read_frames(request.video, request.limits)
 
 
 def _reporting(recording: Recording, frames: Iterator[np.ndarray], request: VideoRequest) -> Iterator[np.ndarray]:

@@ -8,11 +8,19 @@ participant's state lists each set's results by id, in the order shuffled for th
 Every request body is bounded (:class:`exprclone.server.limits.UploadLimit`) and checked,
 its shape by the models below and its values by :mod:`exprclone.study.participants`;
 every error is one line of JSON, ``{"error": "..."}``: 400 for a bad request, 404 for an
-unknown participant or image, 409 when the study is full, 413 for a body over the limit.
+unknown participant or image, 409 when the study is full, 413 for a body over the limit,
+429 for a client that asks for new participants too often.
+
+A participant is made by the page's own flow, one ``POST /api/participants`` when a person
+starts; an address gets at most :data:`NEW_PER_ADDRESS` of them an hour (``--new-per-address``), so
+that plain POSTs cannot use up the study's places, nor rate as many made-up participants.
+The application serves no API documentation (``/docs``, ``/redoc``, ``/openapi.json``): a
+participant needs none.
 """
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -24,11 +32,11 @@ from fastapi.responses import FileResponse
 from fastapi.staticfiles import StaticFiles
 from pydantic import BaseModel, ConfigDict, Field, StrictInt, StrictStr
 from starlette.exceptions import HTTPException
-from starlette.requests import HTTPConnection
+from starlette.requests import HTTPConnection, Request
 
 from .. import __version__
 from ..server.app import add_error_answers
-from ..server.limits import UploadLimit
+from ..server.limits import Paced, UploadLimit
 from .folder import ID, SUFFIX, Study, read_study
 from .participants import NoSuchParticipant, Participants, Record, StudyFull, order
 
@@ -38,6 +46,8 @@ MAX_BODY = 16 * 1024
 MAX_PARTICIPANTS = 1000
 #: the most results a set's ratings may name (the paper compares seven methods at most).
 MAX_ITEMS = 64
+#: new participants one client address may start in :data:`PACE_SECONDS` (a family sharing a connection: a few).
+NEW_PER_ADDRESS, PACE_SECONDS = 5, 3600.0
 
 router = APIRouter()
 Participant = Annotated[str, InPath(pattern=r"^[0-9a-f]{32}$", description="the participant's id (32 hex digits)")]
@@ -109,6 +119,7 @@ class Served:
     study: Study
     images: frozenset[str]
     participants: Participants
+    paced: Paced
 
 
 def the_study(connection: HTTPConnection) -> Served:
@@ -138,9 +149,11 @@ def health() -> dict[str, str]:
     return {"status": "ok", "version": __version__}
 
 
-@router.post("/api/participants", status_code=201, response_model=NewParticipant, responses={409: {"model": Error}})
-def new_participant(server: Server) -> dict[str, str]:
-    """A new anonymous participant (409 when the study has all it may take)."""
+@router.post("/api/participants", status_code=201, response_model=NewParticipant, responses={409: {"model": Error}, 429: {"model": Error}})
+def new_participant(server: Server, request: Request) -> dict[str, str]:
+    """A new anonymous participant (409 when the study has all it may take; 429 when this address has started
+    :data:`NEW_PER_ADDRESS` in the last :data:`PACE_SECONDS`)."""
+    server.paced.admit(request.client.host if request.client else "", time.monotonic())
     return {"id": server.participants.create().participant}
 
 
@@ -171,11 +184,20 @@ def image(server: Server, name: Annotated[str, InPath(max_length=32)]) -> FileRe
     return FileResponse(server.study.image(image_id), media_type="image/png")
 
 
-def create_app(folder: str | Path, max_participants: int = MAX_PARTICIPANTS) -> FastAPI:
-    """The application serving the study in ``folder`` (ExprCloneError if it is not a whole study)."""
+def create_app(folder: str | Path, max_participants: int = MAX_PARTICIPANTS, new_per_address: int = NEW_PER_ADDRESS) -> FastAPI:
+    """The application serving the study in ``folder`` (ExprCloneError if it is not a whole study); one client address
+    starts at most ``new_per_address`` participants in :data:`PACE_SECONDS`."""
     study = read_study(folder)
-    app = FastAPI(title="exprclone study", version=__version__, description="A user study: rate each result from 1 to 5.")
-    app.state.served = Served(study, frozenset(study.images()), Participants(study, max_participants))
+    app = FastAPI(
+        title="exprclone study",
+        version=__version__,
+        description="A user study: rate each result from 1 to 5.",
+        docs_url=None,
+        redoc_url=None,
+        openapi_url=None,
+    )
+    paced = Paced(new_per_address, PACE_SECONDS)
+    app.state.served = Served(study, frozenset(study.images()), Participants(study, max_participants), paced)
     add_error_answers(app, {NoSuchParticipant: 404, StudyFull: 409})
     app.include_router(router)
     app.mount("/static", StaticFiles(directory=Path(str(resources.files(__package__) / "static"))), name="static")

@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ExprCloneError
+from ..io.documents import parse_json
 from ..roles import ROLES
 
 #: the files and folders of a study.
@@ -77,13 +78,15 @@ class Study:
 def read_json(path: Path, what: str) -> dict[str, Any]:
     """A JSON object from a file of a study, or ExprCloneError about ``path`` saying it is not ``what``."""
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = parse_json(path.read_text(encoding="utf-8"), str(path))
     except FileNotFoundError:
         raise ExprCloneError(str(path.parent), f"not a study folder (no {path.name}): make one with exprclone study make") from None
     except OSError as e:
         raise ExprCloneError(str(path), f"cannot be read ({e.strerror})") from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+    except UnicodeDecodeError as e:
         raise ExprCloneError(str(path), f"not {what} ({e})") from None
+    except ExprCloneError as e:
+        raise ExprCloneError(str(path), f"not {what} ({e.problem})") from None
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise ExprCloneError(str(path), f"not {what} of format {FORMAT}")
     return data

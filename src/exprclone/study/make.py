@@ -9,7 +9,8 @@ Each distinct photo is copied into the study as a PNG under a random id, made at
 ``size`` pixels on its longest side, and each set is cloned from those copies by every
 method, as a batch job (:func:`exprclone.batch.job.run`: each photo detected once, each
 pair of faces prepared once, on local processes or a Dask cluster), each result under a
-random id. The page thus shows exactly the pixels the methods were given.
+random id. The page thus shows exactly the pixels the methods were given, and a set's results
+are files of one size (:func:`pad_alike`): how well a method's image compresses says nothing.
 
 The folder is built beside its destination under a hidden name and renamed into place
 once whole: a failure (a photo without a face, Ctrl-C) leaves nothing behind. An existing
@@ -22,6 +23,7 @@ import datetime
 import os
 import secrets
 import shutil
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -36,6 +38,8 @@ from ..options import Options
 from ..roles import ROLES
 from .folder import FORMAT, IMAGES, KEY, STUDY, SUFFIX, Set, Study, new_id, write_json
 
+#: a PNG chunk's bytes beside its data (length, type, CRC), and the IEND chunk's, which ends every PNG file.
+PAD_CHUNK, IEND = 12, 12
 #: the smallest ``size`` allowed, in pixels (the face detector needs a face about 80 pixels wide).
 MIN_SIZE = 128
 
@@ -135,6 +139,8 @@ def make(
         outcomes: dict[int, work.Outcome] = {}
         job.run(rows, options, backend, outcomes, progress=progress)
         check_outcomes(manifest, sets, rows, outcomes, {str(built / IMAGES / f"{i}{SUFFIX}"): p for p, i in copies.items()})
+        for ids in items:  # a result's file size would hint at its method
+            pad_alike([built / IMAGES / f"{i}{SUFFIX}" for i in ids])
         public = Study(built, tuple(Set(dict(zip(ROLES, (copies[p] for p in s.photos))), tuple(i)) for s, i in zip(sets, items)))
         write_json(built / STUDY, public.public())
         write_json(built / KEY, key(manifest, sets, methods, items, options, max_size))
@@ -237,6 +243,17 @@ def changed(options: Options) -> dict[str, Any]:
     """
     default, shown = Options(), ("global_warp", "image_warp", "strength", "only", "retarget")
     return {name: getattr(options, name) for name in shown if getattr(options, name) != getattr(default, name)}
+
+
+def pad_alike(paths: list[Path]) -> None:
+    """PNG files made the same length: each gets a private ancillary chunk (``paDd``, which decoders skip) of zeros
+    before its end, up to the longest's length and the chunk's own 12 bytes."""
+    contents = [p.read_bytes() for p in paths]
+    longest = max(len(c) for c in contents) + PAD_CHUNK
+    for path, content in zip(paths, contents):
+        data = bytes(longest - len(content) - PAD_CHUNK)
+        chunk = len(data).to_bytes(4, "big") + b"paDd" + data + zlib.crc32(b"paDd" + data).to_bytes(4, "big")
+        path.write_bytes(content[:-IEND] + chunk + content[-IEND:])
 
 
 def install(built: Path, folder: Path) -> None:

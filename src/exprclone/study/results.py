@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import ExprCloneError
+from ..io.documents import csv_cell
 from .folder import RATINGS, Key, read_key, read_study
 from .participants import GENDERS, Record, read_all
 
@@ -139,7 +140,7 @@ def csv_text(cells: list[Cell]) -> str:
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(COLUMNS)
     for c in cells:
-        writer.writerow([c.set, c.method, c.n, *("" if math.isnan(v) else f"{v:.4f}" for v in (c.mean, c.ci95))])
+        writer.writerow([csv_cell(c.set), c.method, c.n, *("" if math.isnan(v) else f"{v:.4f}" for v in (c.mean, c.ci95))])
     return out.getvalue()
 
 
