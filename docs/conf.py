@@ -13,10 +13,13 @@ import json
 import os
 from pathlib import Path
 
+from sphinx.util import logging
+
 import exprclone
 
 DOCS = Path(__file__).resolve().parent
 ROOT = DOCS.parent
+logger = logging.getLogger(__name__)
 
 project = "exprclone"
 author = "the exprclone developers"
@@ -157,8 +160,23 @@ def draw_architecture(app) -> None:
     draw(DOCS / "_static" / "architecture.png")
 
 
+def check_source_links(app, exception) -> None:
+    """Every "[docs]" link of the source pages (viewcode) leads to an entry that exists: a name documented under
+    one module and defined in another can get a link to an anchor that is nowhere (a warning, so an error with -W)."""
+    import re
+
+    out = Path(app.outdir)
+    if exception is not None or not (out / "_modules").is_dir():
+        return
+    anchors = {m for page in out.rglob("*.html") for m in re.findall(r'id="([^"]+)"', page.read_text(encoding="utf-8"))}
+    for page in (out / "_modules").rglob("*.html"):
+        for target in set(re.findall(r'href="[^"#]*#(exprclone\.[^"]+)"', page.read_text(encoding="utf-8"))) - anchors:
+            logger.warning(f"{page.relative_to(out)}: its [docs] link to {target} leads nowhere")
+
+
 def setup(app) -> None:
     os.environ.setdefault("MPLBACKEND", "agg")
+    app.connect("build-finished", check_source_links)
     app.connect("builder-inited", write_openapi)
     app.connect("builder-inited", write_options)
     app.connect("builder-inited", draw_architecture)

@@ -10,17 +10,16 @@ line and a form field of the HTTP API.
 
 import matplotlib.pyplot as plt
 
-from exprclone import data
+from exprclone import Cloner, data
 from exprclone.evaluation.figures import face_box
 from exprclone.landmarks.backends import default_detector
-from exprclone.pipeline.cloner import Cloner
 
 source_neutral, source_smile, target_neutral = data.photo("126"), data.photo("126", "smile"), data.photo("001")
 detector = default_detector()
 points = [detector.detect(image) for image in (source_neutral, source_smile, target_neutral)]
 
 # %%
-# One :class:`~exprclone.pipeline.cloner.Cloner` per strength: the options belong to the prepared
+# One :class:`~exprclone.Cloner` per strength: the options belong to the prepared
 # pair of faces.
 strengths = (0.0, 0.5, 1.0, 1.5, 2.0)
 box = face_box(points[2], target_neutral.shape)

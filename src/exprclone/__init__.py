@@ -18,13 +18,24 @@ from .options import Options
 
 if TYPE_CHECKING:  # what type checkers see; at run time the pipeline is imported on first use (__getattr__)
     from .pipeline.clone import clone, clone_methods, prepare
-    from .pipeline.cloner import CloneResult, Prepared
+    from .pipeline.cloner import Cloner, CloneResult, Prepared
 
-__all__ = ["METHODS", "CloneResult", "ExprCloneError", "ExprCloneWarning", "Options", "Prepared", "clone", "clone_methods", "prepare"]
+__all__ = [
+    "METHODS",
+    "CloneResult",
+    "Cloner",
+    "ExprCloneError",
+    "ExprCloneWarning",
+    "Options",
+    "Prepared",
+    "clone",
+    "clone_methods",
+    "prepare",
+]
 __version__ = "0.1.0"
 
 #: the names of the pipeline's face, imported on first use (numpy, OpenCV and SciPy with them).
-LAZY = ("clone", "clone_methods", "prepare", "CloneResult", "Prepared")
+LAZY = ("clone", "clone_methods", "prepare", "CloneResult", "Cloner", "Prepared")
 
 
 def __getattr__(name: str) -> object:

@@ -7,7 +7,7 @@ data, like :mod:`exprclone.methods`: the command line builds its arguments from 
 without loading numpy. A value is checked when it is made (a bad value raises
 :class:`~exprclone.ExprCloneError` naming the option), so a value that exists is a valid one;
 what can only be checked against the photos (``global_landmarks`` inside the target photo) is
-checked by the :class:`~exprclone.pipeline.cloner.Cloner`.
+checked by the :class:`~exprclone.Cloner`.
 
 Each field's :class:`Spec` says how the option is given outside Python, and every surface turns
 its own input into a value through one adapter made from those specs: keywords in Python

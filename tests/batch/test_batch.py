@@ -253,3 +253,20 @@ def test_rows_whose_source_photos_look_swapped_are_warned_in_the_report(tmp_path
     assert warned["right.png"] == ("done", "")
     assert warned["swapped.png"][0] == "done" and "are the source's two photos swapped?" in warned["swapped.png"][1]
     assert (tmp_path / "swapped.png").exists()
+
+
+def test_the_report_names_the_paths_given_not_where_their_links_lead(tmp_path):
+    """Photos reached through a link (a folder of links to a shared data set) are reported by the paths the manifest
+    gives, made absolute, not by the files the links lead to."""
+    links = tmp_path / "photos"
+    links.mkdir()
+    for name, path in (("sn.jpg", samples.path("126")), ("se.jpg", samples.path("126", "smile")), ("tn.jpg", samples.path("003"))):
+        (links / name).symlink_to(path)
+    (tmp_path / "manifest.csv").write_text(f"{HEADER}\nphotos/sn.jpg,photos/se.jpg,photos/tn.jpg,sub/../a.png\n")
+    p = run(tmp_path / "manifest.csv", "--method", "global")
+    assert p.returncode == 0, p.stderr
+    (row,) = report(tmp_path)
+    assert [row[r] for r in ("source_neutral", "source_expression", "target_neutral")] == [
+        str(links / n) for n in ("sn.jpg", "se.jpg", "tn.jpg")
+    ]
+    assert row["output"] == str(tmp_path / "a.png") and (tmp_path / "a.png").is_file()

@@ -264,9 +264,12 @@ def test_version_prints_the_version():
     assert done.returncode == 0 and done.stdout.strip() == f"exprclone {exprclone.__version__}"
 
 
-def test_expressions_lists_the_built_in_names():
+def test_expressions_lists_the_built_in_names_and_what_each_is():
     p = run("expressions")
-    assert p.returncode == 0 and p.stdout.split() == list(exprclone.expressions.names()) and "smile" in p.stdout.split()
+    lines = [line.split(maxsplit=1) for line in p.stdout.splitlines()]
+    assert p.returncode == 0 and [name for name, _ in lines] == list(exprclone.expressions.names())
+    said = dict(lines)
+    assert said["smile"].startswith("an open prototype smile") and said["smile-001"].startswith("person 001's own smile"), said
 
 
 def test_clone_one_photo_with_a_built_in_expression(london, tmp_path):

@@ -4,6 +4,9 @@ import base64
 import io
 import json
 import os
+import signal
+import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -424,3 +427,26 @@ def test_clone_one_photo_with_a_built_in_expression_answers_the_python_apis_imag
 def test_a_built_in_expression_with_the_wrong_photos_is_one_error(client, sent, form, message):
     r = client.post("/api/clone", files={f: files()[f] for f in sent}, data=form)
     assert r.status_code == 400 and r.json()["error"].startswith(message), r.text
+
+
+@pytest.mark.parametrize("command", [("serve", "--workers", "1"), ("study", "serve", "STUDY")])
+def test_serving_is_said_only_once_the_server_answers(command, tmp_path):
+    """ "serving on ..." came 19 s before /api/health answered on a loaded machine: now its first request, sent the moment
+    the line is read, is answered."""
+    from serving import free_port, interruptible
+    from studies import SETS, make
+
+    if "STUDY" in command:
+        assert make(tmp_path, sets=SETS[:1], methods=("global",)).returncode == 0
+    words = [str(tmp_path / "study") if w == "STUDY" else w for w in command]
+    port = free_port()
+    process = subprocess.Popen(
+        [sys.executable, "-m", "exprclone", *words, "--port", str(port)], stdout=subprocess.PIPE, text=True, preexec_fn=interruptible
+    )
+    try:
+        line = process.stdout.readline()
+        assert line.startswith("exprclone: serving") and f"127.0.0.1:{port}" in line, line
+        assert httpx.get(f"http://127.0.0.1:{port}/api/health", timeout=5).json()["status"] == "ok"
+    finally:
+        process.send_signal(signal.SIGINT)
+        assert process.wait(timeout=30) == 130 and process.stdout.read() == "exprclone: stopped\n"  # 128 + SIGINT

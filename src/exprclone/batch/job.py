@@ -5,7 +5,7 @@
 2. Each distinct photo (by content: the SHA-256 of its bytes) is detected once, however
    many rows use it; with a cache folder its landmarks persist between runs.
 3. Rows that share a source's neutral photo and a target go together, so the work that
-   depends on the two neutral faces (:class:`exprclone.pipeline.cloner.Cloner`) is done once.
+   depends on the two neutral faces (:class:`exprclone.Cloner`) is done once.
 
 The tasks run on a :class:`Local` pool of processes or on a Dask cluster (:class:`Dask`);
 either way one bad row never stops the job, and the report has one row per manifest row.

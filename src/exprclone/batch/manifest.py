@@ -49,7 +49,7 @@ class Row:
 def read_manifest(path: str, out: str | None = None) -> list[Row]:
     """The rows of a manifest CSV (see the module's notes), checked (:func:`check_rows`)."""
     records = read_records(path, COLUMNS)
-    outputs = Path(out).resolve() if out else Path(path).resolve().parent
+    outputs = Path(os.path.abspath(out if out else Path(path).parent))
     return check_rows([_row(k, r, path, outputs) for k, r in enumerate(records, 1)], path)
 
 
@@ -61,14 +61,14 @@ def _row(number: int, record: dict[str, str], path: str, outputs: Path) -> Row:
 
 
 def output_of(name: str, outputs: Path, path: str, number: int) -> str:
-    """Row ``number``'s output file ``name`` in the folder ``outputs``: an image file (:data:`PHOTO_SUFFIXES`) inside it,
-    else ExprCloneError about the manifest at ``path``."""
-    output = (outputs / name).resolve()
-    if not output.is_relative_to(outputs):
+    """Row ``number``'s output file ``name`` in the folder ``outputs``: an image file (:data:`PHOTO_SUFFIXES`) inside it
+    (its links followed), else ExprCloneError about the manifest at ``path``; its path as given, made absolute."""
+    output = Path(os.path.abspath(outputs / name))
+    if not Path(os.path.realpath(output)).is_relative_to(os.path.realpath(outputs)):
         raise ExprCloneError(path, f"row {number}'s output {quoted(name)} is outside the output folder {outputs}")
     if output.suffix.lower() not in PHOTO_SUFFIXES:
         raise ExprCloneError(path, f"row {number}'s output {quoted(name)} is no image file ({', '.join(sorted(PHOTO_SUFFIXES))})")
-    return str(outputs / name)
+    return str(output)
 
 
 def read_records(path: str, columns: tuple[str, ...]) -> list[dict[str, str]]:
@@ -102,9 +102,10 @@ def read_records(path: str, columns: tuple[str, ...]) -> list[dict[str, str]]:
 
 
 def photos_of(record: dict[str, str], path: str) -> tuple[str, str, str]:
-    """A record's three photos (in :data:`exprclone.roles.ROLES`' order), as paths relative to the folder of the manifest at ``path``."""
-    folder = Path(path).resolve().parent
-    source_neutral, source_expression, target_neutral = (str(folder / record[role]) for role in ROLES)
+    """A record's three photos (in :data:`exprclone.roles.ROLES`' order), as paths relative to the folder of the manifest at
+    ``path``, made absolute (links kept: the report names the paths given)."""
+    folder = Path(path).parent
+    source_neutral, source_expression, target_neutral = (os.path.abspath(folder / record[role]) for role in ROLES)
     return source_neutral, source_expression, target_neutral
 
 
@@ -116,10 +117,9 @@ def rows_for_targets(source_neutral: str, source_expression: str, targets: str, 
         found = sorted(p for p in glob.glob(targets) if Path(p).suffix.lower() in PHOTO_SUFFIXES)
     if not found:
         raise ExprCloneError(targets, "no photos (.jpg, .png, ...) found")
-    neutral, expression = (str(Path(p).resolve()) for p in (source_neutral, source_expression))
+    neutral, expression = (os.path.abspath(p) for p in (source_neutral, source_expression))
     rows = [
-        Row(k, neutral, expression, str(Path(t).resolve()), str(Path(out).resolve() / f"{Path(t).stem}.png"))
-        for k, t in enumerate(found, 1)
+        Row(k, neutral, expression, os.path.abspath(t), os.path.abspath(Path(out) / f"{Path(t).stem}.png")) for k, t in enumerate(found, 1)
     ]
     return check_rows(rows, targets)
 

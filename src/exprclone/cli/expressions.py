@@ -1,4 +1,4 @@
-"""``exprclone expressions``: the built-in expressions' names, one a line (:mod:`exprclone.expressions`)."""
+"""``exprclone expressions``: the built-in expressions, one a line: its name, then what it is (:mod:`exprclone.expressions`)."""
 
 from __future__ import annotations
 
@@ -6,10 +6,11 @@ import argparse
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    sub.add_parser("expressions", help="list the built-in expressions, for --expression")
+    sub.add_parser("expressions", help="list the built-in expressions, for --expression: each one's name and what it is")
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..expressions import names
+    from ..expressions import load, names
 
-    print("\n".join(names()))
+    width = max(len(name) for name in names())
+    print("\n".join(f"{name:<{width}}  {load(name).description}" for name in names()))

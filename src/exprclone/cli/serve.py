@@ -90,24 +90,31 @@ def connection_bounds(args: argparse.Namespace) -> dict[str, Any]:
     return {"limit_concurrency": args.max_connections, "timeout_keep_alive": args.keep_alive}
 
 
-def run(args: argparse.Namespace) -> None:
-    server_packages()
+def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> None:
+    """Serve ``app`` with uvicorn on ``args.host`` and ``args.port``, within the connection bounds; print ``said`` once it
+    answers (its start-up done: the workers ready, the port bound), and "stopped" when it stops."""
     import uvicorn
 
+    class Announced(uvicorn.Server):
+        async def startup(self, sockets: Any = None) -> None:
+            await super().startup(sockets)
+            if self.started:  # (a port in use ends the start-up without it)
+                print(f"exprclone: {said}", flush=True)
+
+    config = uvicorn.Config(app, host=args.host, port=args.port, log_level="warning", **connection_bounds(args), **options)
+    try:
+        Announced(config).run()
+    finally:  # (uvicorn raises Ctrl-C again once it has stopped)
+        print("exprclone: stopped", flush=True)
+
+
+def run(args: argparse.Namespace) -> None:
+    server_packages()
     from ..server.app import create_app
 
     check_bounds(args, tuple(BOUNDS))
     fields = {flag.replace("-", "_"): getattr(args, flag.replace("-", "_")) for flag in BOUNDS if flag not in UVICORN}
     fields["max_pixels"] = round(fields.pop("max_megapixels") * 1e6)
     settings = Settings(**fields, cors=tuple(args.cors))
-    print(f"exprclone: serving on http://{args.host}:{args.port}/ ({args.workers} workers; Ctrl-C to stop)", flush=True)
-    uvicorn.run(
-        create_app(settings),
-        host=args.host,
-        port=args.port,
-        log_level="warning",
-        **connection_bounds(args),
-        ws_max_size=int(args.max_upload_mb * 2**20),
-        ws_max_queue=WS_QUEUE,
-    )
-    print("exprclone: stopped", flush=True)
+    said = f"serving on http://{args.host}:{args.port}/ ({args.workers} workers; Ctrl-C to stop)"
+    listen(create_app(settings), args, said, ws_max_size=int(args.max_upload_mb * 2**20), ws_max_queue=WS_QUEUE)

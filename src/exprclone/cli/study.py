@@ -10,7 +10,7 @@ from ..options import Options, names
 from .batch import add_workers, backend_of
 from .evaluate import listed
 from .inputs import add_options, options_of
-from .serve import UVICORN, add_address, add_bounds, check_bounds, connection_bounds, server_packages
+from .serve import UVICORN, add_address, add_bounds, check_bounds, listen, server_packages
 
 #: the clone's options of a study, for every set (each set is cloned by every method; a set's own lambda may change it).
 STUDY = tuple(n for n in names(Options) if n not in ("method", "global_landmarks", "eigenfaces"))
@@ -73,8 +73,6 @@ def make(args: argparse.Namespace) -> None:
 
 def serve(args: argparse.Namespace) -> None:
     server_packages()
-    import uvicorn
-
     from ..study.app import create_app
 
     for flag, value in (("--max-participants", args.max_participants), ("--new-per-address", args.new_per_address)):
@@ -82,9 +80,7 @@ def serve(args: argparse.Namespace) -> None:
             raise ExprCloneError(flag, f"expected at least 1, got {value}")
     check_bounds(args, tuple(UVICORN))
     app = create_app(args.folder, args.max_participants, args.new_per_address)
-    print(f"exprclone: serving the study {args.folder} on http://{args.host}:{args.port}/ (Ctrl-C to stop)", flush=True)
-    uvicorn.run(app, host=args.host, port=args.port, log_level="warning", **connection_bounds(args))
-    print("exprclone: stopped", flush=True)
+    listen(app, args, f"serving the study {args.folder} on http://{args.host}:{args.port}/ (Ctrl-C to stop)")
 
 
 def results(args: argparse.Namespace) -> None:

@@ -12,7 +12,7 @@ detail, above ``DETAIL_SIGMA`` inter-ocular distances (the texture test,
 alone is taken at the photo's resolution, squared, then averaged.
 
 The source's neutral photo and the target are the same for every expression cloned
-between two faces (every frame of a video), so a :class:`~exprclone.pipeline.cloner.Cloner`
+between two faces (every frame of a video), so a :class:`~exprclone.Cloner`
 shrinks them once; only the expression is shrunk per frame.
 """
 

@@ -135,7 +135,7 @@ class Driver:
     cloner : Cloner
         The source's neutral face and the portrait, prepared, with the options of every frame's clone. With
         ``lambda_k="auto"`` the DB metric chooses it on every frame (:func:`choose_lambda` chooses one for a whole
-        performance, and :meth:`Cloner.changed <exprclone.pipeline.cloner.Cloner.changed>` gives it to the cloner).
+        performance, and :meth:`Cloner.changed <exprclone.Cloner.changed>` gives it to the cloner).
     driving : Driving, optional
         Its ``head_motion``: carry the source's head motion over to the portrait as a similarity transform.
 

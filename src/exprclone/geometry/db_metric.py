@@ -116,7 +116,7 @@ def choose_lambda(
 
     ``candidates[i]`` are the elastic landmarks for ``lambdas[i]``; ``lambdas[0]`` must
     be 0, whose candidate is the global result ``I_target_gl``. ``target`` is the target
-    photo as :func:`target_grey` gives it (a :class:`~exprclone.pipeline.cloner.Cloner` keeps it);
+    photo as :func:`target_grey` gives it (a :class:`~exprclone.Cloner` keeps it);
     ``source_crop`` the source's expression photo as :func:`exprclone.geometry.eigenface.crop` gives it.
     """
     if lambdas[0] != 0:

@@ -4,7 +4,7 @@ Stages: landmarks -> shape stages (global warping GI, local warping LI, the elas
 model with lambda_k by the DB metric; :data:`exprclone.pipeline.stages.SHAPE_STAGES`) ->
 geometric warp FI -> details (ERI, MD model, mouth interior) -> F_IMG. :func:`prepare`
 checks the three photos, finds their landmarks, hands them to a
-:class:`~exprclone.pipeline.cloner.Cloner`, which prepares the two neutral faces, and prepares
+:class:`~exprclone.Cloner`, which prepares the two neutral faces, and prepares
 the source expression on them; its :meth:`~exprclone.pipeline.cloner.Prepared.render` makes the
 images, as often as asked. :func:`clone` and :func:`clone_methods` are the two in one call. What each method runs is read from its row of
 :data:`exprclone.methods.TABLE`; how its stages run, from the

@@ -8,11 +8,11 @@ import shutil
 from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Depends, File, Form, Query, UploadFile
 from fastapi.responses import FileResponse, JSONResponse, Response
-from pydantic import WithJsonSchema
+from pydantic import BaseModel, WithJsonSchema
 
 from .. import __version__, expressions
 from .. import data as samples
@@ -123,10 +123,19 @@ async def live_page() -> FileResponse:
     return FileResponse(Path(str(resources.files(__package__) / "static" / "live.html")))
 
 
+class Health(BaseModel):
+    """The server is up, and its version."""
+
+    status: Literal["ok"]
+    version: str
+
+    model_config = {"json_schema_extra": {"examples": [{"status": "ok", "version": __version__}]}}
+
+
 @router.get("/api/health")
-async def health() -> dict[str, str]:
+async def health() -> Health:
     """The server is up: ``{"status": "ok", "version": ...}``."""
-    return {"status": "ok", "version": __version__}
+    return Health(status="ok", version=__version__)
 
 
 @router.get("/api/samples/{name}", responses=errors(400))

@@ -8,18 +8,21 @@ taken out of the schema: the server answers a request that fails its checks with
 
 The pages ``/docs`` (Swagger UI) and ``/redoc`` (ReDoc) load their scripts, styles and icon
 from this server (the files of the ``fastapi-offline`` package), not from a CDN, and no font
-from another host: they work with no network.
+from another host: they work with no network. ReDoc's script would show its maker's logo from
+a CDN in its footer: the server's copy of the script has that address replaced by an empty
+image (which ReDoc then hides), and the pages' policy refuses any other host anyway.
 """
 
 from __future__ import annotations
 
+import re
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from fastapi import FastAPI
 from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
-from fastapi.responses import HTMLResponse
+from fastapi.responses import HTMLResponse, Response
 from fastapi.staticfiles import StaticFiles
 from pydantic import BaseModel
 
@@ -34,7 +37,11 @@ MEANING = {
 }
 #: where the pages' assets are served from.
 ASSETS_URL = "/docs-assets"
-#: the pages may load nothing from another host (ReDoc's footer would fetch its maker's logo from a CDN).
+#: ReDoc's footer logo, which its script would fetch from a CDN (:data:`REDOC_SCRIPT` has it replaced).
+REDOC_LOGO = "https://cdn.redoc.ly/redoc/logo-mini.svg"
+#: where the server's copy of ReDoc's script, without :data:`REDOC_LOGO`, is served.
+REDOC_SCRIPT = "/docs-redoc.js"
+#: the pages may load nothing from another host.
 POLICY = (
     "default-src 'self'; script-src 'self' 'unsafe-inline'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:;"
     " worker-src 'self' blob:"
@@ -69,13 +76,37 @@ def _without_validation_errors(schema: dict[str, Any]) -> dict[str, Any]:
     return schema
 
 
+#: a Sphinx role in a docstring (``:mod:`exprclone.data```, ``:class:`~a.B```): its target, and whether only its last name shows.
+ROLE = re.compile(r":[a-z]+:`(~?)([^`]+)`")
+
+
+def markdown(text: str) -> str:
+    """A docstring's reStructuredText as the Markdown the schema's readers show: roles as their name in code, double
+    backquotes as single.
+
+    >>> markdown("See :mod:`exprclone.data` and :class:`~fastapi.responses.FileResponse`; ``size`` pixels.")
+    'See `exprclone.data` and `FileResponse`; `size` pixels.'
+    """
+    named = ROLE.sub(lambda m: f"`{m[2].rsplit('.', 1)[-1] if m[1] else m[2]}`", text)
+    return named.replace("``", "`")
+
+
+def _in_markdown(node: Any) -> Any:
+    """The schema with every description in :func:`markdown`."""
+    if isinstance(node, dict):
+        return {k: markdown(v) if k == "description" and isinstance(v, str) else _in_markdown(v) for k, v in node.items()}
+    if isinstance(node, list):
+        return [_in_markdown(v) for v in node]
+    return node
+
+
 def document(app: FastAPI) -> None:
     """The schema as :mod:`exprclone.server.openapi` says, and the offline ``/docs`` and ``/redoc`` pages."""
     make_schema = app.openapi
 
     def openapi() -> dict[str, Any]:
         if app.openapi_schema is None:
-            app.openapi_schema = _without_validation_errors(make_schema())
+            app.openapi_schema = _in_markdown(_without_validation_errors(make_schema()))
         return app.openapi_schema
 
     app.openapi = openapi  # type: ignore[method-assign]
@@ -95,13 +126,19 @@ def document(app: FastAPI) -> None:
             )
         )
 
+    redoc_script = (assets / "redoc.standalone.js").read_text(encoding="utf-8").replace(REDOC_LOGO, "data:,")
+
+    @app.get(REDOC_SCRIPT, include_in_schema=False)
+    async def redoc_js() -> Response:
+        return Response(redoc_script, media_type="text/javascript")
+
     @app.get("/redoc", include_in_schema=False)
     async def redoc() -> HTMLResponse:
         return _own_only(
             get_redoc_html(
                 openapi_url="/openapi.json",
                 title=f"{title}: HTTP API",
-                redoc_js_url=f"{ASSETS_URL}/redoc.standalone.js",
+                redoc_js_url=REDOC_SCRIPT,
                 redoc_favicon_url=f"{ASSETS_URL}/favicon.png",
                 with_google_fonts=False,
             )
