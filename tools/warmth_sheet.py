@@ -21,6 +21,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 ERI_METHODS = ("global+eri", "local+eri", "elastic+eri", "e+md")
+#: the sheet's JPEG quality.
+JPEG_QUALITY = 80
 
 
 def render(data: Path, wanted: list[tuple[str, str, str]], out: Path) -> None:
@@ -85,9 +87,10 @@ def compose(worst: list, before: dict, after: dict, folders: dict[str, Path], ou
     """One row a clone: [target neutral | before | after], captioned with the pair, the method and both warmths."""
     import cv2
     import numpy as np
+    from PIL import Image
 
     from exprclone.evaluation.report import _caption
-    from exprclone.io.images import load_image, save_image
+    from exprclone.io.images import load_image
 
     rows = []
     for a, b, method in worst:
@@ -100,7 +103,8 @@ def compose(worst: list, before: dict, after: dict, folders: dict[str, Path], ou
         rows.append(np.hstack(cells))
     if len(rows) % 2:
         rows.append(np.zeros_like(rows[0]))
-    save_image(output, np.vstack([np.hstack(rows[k : k + 2]) for k in range(0, len(rows), 2)]))
+    sheet = np.vstack([np.hstack(rows[k : k + 2]) for k in range(0, len(rows), 2)])
+    Image.fromarray(sheet).save(output, quality=JPEG_QUALITY)  # (a page's figure: a third of save_image's bytes)
 
 
 if __name__ == "__main__":

@@ -374,3 +374,26 @@ def test_an_expression_file_nested_too_deep_is_one_line(tmp_path, command):
     assert p.returncode == 2 and p.stderr.strip() == f"exprclone: error: {deep}: not JSON of this kind: nested 4000 deep (at most 16)", (
         p.stderr
     )
+
+
+def test_evaluate_on_a_folder_of_ones_own(tmp_path):
+    """neutral/NAME.EXT and expression/NAME.EXT (names of any length, PNG and JPEG mixed): scored as the London Set is;
+    the report has no table of nan (no strong smile among these targets) and says so."""
+    folder = tmp_path / "mine"
+    for kind, smiling in (("neutral", False), ("expression", True)):
+        (folder / kind).mkdir(parents=True)
+        for name, person in (("anna", "126"), ("bertrand", "003"), ("chen", "001")):
+            image = Image.open((smile_path if smiling else neutral_path)(person))
+            image.save(folder / kind / f"{name}.{'png' if name == 'anna' else 'jpg'}")
+    out = tmp_path / "report"
+    p = run("evaluate", "--data", folder, "--pairs", "2", "--methods", "global,e+md", "--out", out)
+    assert p.returncode == 0, p.stderr
+    summary = (out / "summary.md").read_text()
+    rows = (out / "pairs.csv").read_text().splitlines()
+    assert len(rows) == 1 + 2 * 4 and {r.split(",")[0] for r in rows[1:]} <= {"anna", "bertrand", "chen"}
+    assert "nan" not in summary and "nan" not in p.stdout and "| e+md |" in summary
+
+
+def test_evaluate_says_where_it_reads_from_when_the_folder_has_no_people(tmp_path):
+    p = run("evaluate", "--data", tmp_path, "--out", tmp_path / "r")
+    assert p.returncode == 2 and "neutral/NAME.jpg and expression/NAME.jpg" in p.stderr and len(p.stderr.strip().splitlines()) == 1

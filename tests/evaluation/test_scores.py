@@ -7,24 +7,10 @@ import pytest
 from exprclone.evaluation.london import Dataset
 from exprclone.evaluation.report import contrast_table
 from exprclone.evaluation.runner import smile_strength, variants
-from exprclone.evaluation.scores import (
-    GREY_WARMTH,
-    SAME_PERSON,
-    TEETH_SHOWN,
-    FaceDescriptor,
-    identity_distance,
-    landmark_error,
-    teeth,
-    warmth,
-)
+from exprclone.evaluation.scores import GREY_WARMTH, TEETH_SHOWN, landmark_error, teeth, warmth
 from exprclone.evaluation.statistics import contrasts, summarise
 from exprclone.landmarks import align
 from exprclone.landmarks.layout import DLIB68
-
-
-@pytest.fixture(scope="module")
-def descriptor():
-    return FaceDescriptor()
 
 
 def test_result_equal_to_the_real_smile_scores_zero(photo):
@@ -52,13 +38,6 @@ def test_no_change_scores_worse_than_the_real_smile(photo):
     # for the broadest of these smiles the change is mostly at the mouth
     _, broadest = max(errors.values(), key=lambda e: e[0])
     assert broadest["mouth"] > broadest["eyes_brows"]
-
-
-def test_identity_is_small_for_one_person_and_large_across_people(photo, descriptor):
-    (n3, l3), (s3, ls3), (n1, l1) = photo("003"), photo("003", "smile"), photo("001")
-    d3 = descriptor(n3, l3)
-    assert identity_distance(d3, descriptor(s3, ls3)) < SAME_PERSON
-    assert identity_distance(d3, descriptor(n1, l1)) > SAME_PERSON
 
 
 def test_smile_strength_is_zero_for_no_change_and_positive_for_a_smile(photo):

@@ -1,4 +1,5 @@
-"""The source's photos in the wrong roles (:mod:`exprclone.pipeline.role_check`): two people, or the smile given as the neutral face."""
+"""The photos in the wrong boxes (:mod:`exprclone.pipeline.role_check`): two people, the smile given as the neutral face,
+the target's photo in a source's box."""
 
 import json
 import subprocess
@@ -8,7 +9,17 @@ import pytest
 
 from exprclone import data as samples
 from exprclone.landmarks.layout import DLIB68
-from exprclone.pipeline.role_check import Photo, expressiveness, identity_distance, judge_roles
+from exprclone.pipeline.role_check import (
+    SAME_PERSON,
+    SURELY_SAME,
+    Photo,
+    appearance_distance,
+    expressiveness,
+    identity_distance,
+    judge_roles,
+    one_person,
+    smile,
+)
 
 PEOPLE = samples.PEOPLE
 
@@ -20,23 +31,36 @@ def photos(photo):
 
 def test_one_persons_photos_in_the_right_order_raise_nothing(photos):
     for i in PEOPLE:
-        assert judge_roles(photos[i, "neutral"], photos[i, "smile"], DLIB68) == [], i
+        for j in PEOPLE:  # the target anyone, the source's own person too
+            assert judge_roles(photos[i, "neutral"], photos[i, "smile"], DLIB68, photos[j, "neutral"]) == [], (i, j)
 
 
-def test_two_people_are_told(photos):
+def test_two_people_are_told_by_their_descriptors(photos):
     for i in PEOPLE:
-        own = identity_distance(photos[i, "neutral"], photos[i, "smile"], DLIB68)
+        assert identity_distance(photos[i, "neutral"].descriptor, photos[i, "smile"].descriptor) < SAME_PERSON
         for j in PEOPLE:
             if j != i:
-                assert identity_distance(photos[i, "neutral"], photos[j, "smile"], DLIB68) > own
+                assert identity_distance(photos[i, "neutral"].descriptor, photos[j, "smile"].descriptor) > SAME_PERSON
+                assert appearance_distance(photos[i, "neutral"], photos[j, "smile"], DLIB68) > SURELY_SAME  # never taken unseen
+                assert not one_person(photos[i, "neutral"], photos[j, "smile"], DLIB68)
                 assert "another person" in judge_roles(photos[i, "neutral"], photos[j, "smile"], DLIB68)[0]
 
 
-def test_a_smile_is_more_expressive_than_the_neutral_face(photos):
+def test_a_smile_is_more_expressive_and_smiles_more_than_the_neutral_face(photos):
     for i in PEOPLE:
-        assert expressiveness(photos[i, "smile"].points, DLIB68) > expressiveness(photos[i, "neutral"].points, DLIB68), i
-    said = judge_roles(photos["126", "smile"], photos["126", "neutral"], DLIB68)
-    assert said == ["source_neutral: looks more expressive than source_expression; are the source's two photos swapped?"]
+        neutral, smiling = photos[i, "neutral"].points, photos[i, "smile"].points
+        assert expressiveness(smiling, DLIB68) > expressiveness(neutral, DLIB68), i
+        assert smile(smiling, DLIB68) > smile(neutral, DLIB68), i
+        said = judge_roles(photos[i, "smile"], photos[i, "neutral"], DLIB68)
+        assert said == ["source_neutral: looks more expressive than source_expression; are the source's two photos swapped?"], i
+
+
+def test_the_target_in_a_source_box_is_named(photos):
+    """The target's photo given as a source's, and that source's photo as the target: the warning names the two boxes."""
+    source, target = "126", "003"
+    n, s, t = photos[source, "neutral"], photos[source, "smile"], photos[target, "neutral"]
+    assert "are source_neutral and target_neutral swapped?" in judge_roles(t, s, DLIB68, n)[0]
+    assert "are source_expression and target_neutral swapped?" in judge_roles(n, t, DLIB68, s)[0]
 
 
 def test_the_cli_warns_on_one_line_and_the_record_keeps_it(tmp_path):

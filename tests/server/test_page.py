@@ -58,6 +58,11 @@ def test_swapped_source_photos_are_warned_of_beside_the_result(page):
     assert page.text_content("#warning") == (
         "source neutral: looks more expressive than source_expression; are the source's two photos swapped?"
     )
+    # beside the result: right above its image, seen with it (it sat 970 px above, off screen when the result was looked at)
+    page.locator("img#result").scroll_into_view_if_needed()
+    warning, result = (page.locator(s).bounding_box() for s in ("#warning", "img#result"))
+    assert 0 <= result["y"] - (warning["y"] + warning["height"]) < 40, (warning, result)
+    assert page.evaluate("document.querySelector('#warning').getBoundingClientRect().top >= 0")
     set_photos(page, samples.path("003"))  # the right order: the warning goes
     page.click("#clone")
     page.wait_for_function("document.querySelector('#busy').hidden", timeout=CLONE_TIMEOUT)

@@ -104,19 +104,23 @@ def clone_rows(task: Task) -> list[Outcome]:
             neutral, target = load_image(first.source_neutral), load_image(first.target_neutral)
             landmarks = task.landmarks[first.source_neutral], task.landmarks[first.target_neutral]
             cloner = Cloner(neutral, landmarks[0], target, landmarks[1], task.options)
-            photo = role_check.Photo.of(neutral, landmarks[0], cloner.faces.layout)  # the source's neutral, for each row's role check
+            # the source's neutral and the target, for each row's role check
+            photos = (
+                role_check.Photo.of(neutral, landmarks[0], cloner.faces.layout),
+                role_check.Photo.of(target, landmarks[1], cloner.faces.layout),
+            )
     except ExprCloneError as e:
         return [Outcome(row.number, "failed", str(e)) for row in task.rows]
     outcomes = []
     for row in task.rows:
-        outcomes.append(_clone_row(cloner, photo, row, task, start))
+        outcomes.append(_clone_row(cloner, photos, row, task, start))
         start = time.perf_counter()
     return outcomes
 
 
-def _clone_row(cloner: Cloner, neutral: role_check.Photo, row: Row, task: Task, start: float) -> Outcome:
-    """One row on the prepared faces: its expression cloned by its method, the output written, its source's photos checked
-    (:func:`exprclone.pipeline.role_check.judge_roles`; ``neutral`` is the source's neutral photo's)."""
+def _clone_row(cloner: Cloner, photos: tuple[role_check.Photo, role_check.Photo], row: Row, task: Task, start: float) -> Outcome:
+    """One row on the prepared faces: its expression cloned by its method, the output written, its photos checked
+    (:func:`exprclone.pipeline.role_check.judge_roles`; ``photos`` are the source's neutral photo's and the target's)."""
     from ..io.images import load_image, save_image
     from ..pipeline import role_check
 
@@ -130,7 +134,7 @@ def _clone_row(cloner: Cloner, neutral: role_check.Photo, row: Row, task: Task, 
             photo = role_check.Photo.of(expression, points, cloner.faces.layout)
             result = own.clone_methods(expression, points, crop=photo.crop)
             save_image(row.output, result[method].image, inputs=row.photos)
-            said = tuple(role_check.judge_roles(neutral, photo, cloner.faces.layout))
+            said = tuple(role_check.judge_roles(photos[0], photo, cloner.faces.layout, photos[1]))
     except ExprCloneError as e:
         return Outcome(row.number, "failed", str(e), seconds=time.perf_counter() - start)
     except Exception as e:  # a bug, not the input's fault: the row fails, the job goes on

@@ -33,7 +33,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     e.add_argument(
         "--data",
         default=os.path.join(os.environ["EXPRCLONE_DATA"], "london") if "EXPRCLONE_DATA" in os.environ else None,
-        help="folder with neutral_front/ID_03.jpg and smiling_front/ID_08.jpg, such as the London Set"
+        help="folder of people's photos: neutral/NAME.jpg and expression/NAME.jpg (one name a person, any image type),"
+        " or the London Set's neutral_front/ID_03.jpg and smiling_front/ID_08.jpg"
         " (default: $EXPRCLONE_DATA/london, else the three people shipped as samples)",
     )
     e.add_argument("--pairs", type=int, default=50, help="ordered pairs of different people, drawn with --seed (0: all; default 50)")
@@ -86,10 +87,9 @@ def run(args: argparse.Namespace) -> None:
     from ..evaluation.expression import held_out
     from ..evaluation.expression import section as expression_section
     from ..evaluation.london import Dataset
-    from ..evaluation.report import contrast_table, table, write_report
+    from ..evaluation.report import tables, write_report
     from ..evaluation.runner import run as score
     from ..evaluation.runner import variants
-    from ..evaluation.statistics import contrasts, summarise
     from ..expressions import load
     from ..io.progress import Bar
     from ..methods import METHODS, lookup
@@ -114,11 +114,7 @@ def run(args: argparse.Namespace) -> None:
         rows += found
     command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"
     write_report(Path(args.out), data, rows, landmarks, methods, command, chosen, tuple(sections))
-    print(table(summarise(rows)))
-    print(f"strong smiles only:\n{table(summarise(rows, strong_only=True))}")
-    if contrasts(pair_rows):
-        print(f"pair by pair:\n{contrast_table(contrasts(pair_rows))}")
-        print(f"strong smiles only:\n{contrast_table(contrasts(pair_rows, strong_only=True))}")
+    print("\n".join(tables(rows, pair_rows)))
     if sections:
         print(sections[2])
     print(f"report: {Path(args.out) / 'summary.md'}")

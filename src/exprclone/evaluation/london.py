@@ -1,7 +1,14 @@
-"""The London Set (Face Research Lab, DeBruine and Jones 2017) as scored pairs: each person's neutral photo and real smile.
+"""The people whose photos score the clones: each person's neutral photo and real expression, in a folder.
 
-The folder holds ``neutral_front/ID_03.jpg`` and ``smiling_front/ID_08.jpg`` for each
-person; a clone of A's smile onto B can be scored against B's own smile.
+Two layouts of the folder are read:
+
+- the London Set's (Face Research Lab, DeBruine and Jones 2017): ``neutral_front/ID_03.jpg``
+  and ``smiling_front/ID_08.jpg`` for each person, as it is downloaded;
+- one's own: ``neutral/NAME.EXT`` and ``expression/NAME.EXT``, one person's two photos under one
+  name (any image extension: ``neutral/anna.jpg`` and ``expression/anna.png``), every person
+  showing the same kind of expression.
+
+A clone of A's expression onto B is scored against B's own expression.
 """
 
 from __future__ import annotations
@@ -13,29 +20,46 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ExprCloneError
+from ..io.images import PHOTO_SUFFIXES
+
+#: the London Set's folders and file name endings, neutral then smiling.
+LONDON = (("neutral_front", "_03"), ("smiling_front", "_08"))
+#: one's own folders, neutral then expression.
+OWN = ("neutral", "expression")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Dataset:
-    """The photos of a London-Set-like folder: ``neutral_front/ID_03.jpg`` and ``smiling_front/ID_08.jpg``."""
+    """The people of a folder in either layout (the module's notes): their ids, and each one's two photos."""
 
     root: Path
     ids: tuple[str, ...]
+    photos: dict[str, tuple[str, str]]
 
     @classmethod
-    def open(cls, root: str | os.PathLike[str]) -> "Dataset":
+    def open(cls, root: str | os.PathLike[str]) -> Dataset:
+        """The people of ``root`` who have both photos; ExprCloneError if fewer than two have."""
         root = Path(root)
-        ids = tuple(
-            sorted(
-                p.name[:3] for p in (root / "neutral_front").glob("*_03.jpg") if (root / "smiling_front" / f"{p.name[:3]}_08.jpg").is_file()
+        london = {p.name[:3]: p for p in (root / LONDON[0][0]).glob(f"*{LONDON[0][1]}.jpg")}
+        photos = {
+            face_id: (str(neutral), str(smiling))
+            for face_id, neutral in london.items()
+            if (smiling := root / LONDON[1][0] / f"{face_id}{LONDON[1][1]}.jpg").is_file()
+        }
+        if not photos:
+            found = [{p.stem: p for p in sorted((root / folder).glob("*")) if p.suffix.lower() in PHOTO_SUFFIXES} for folder in OWN]
+            photos = {name: (str(found[0][name]), str(found[1][name])) for name in found[0] if name in found[1]}
+        if len(photos) < 2:
+            raise ExprCloneError(
+                root,
+                "needs two photos for at least two people: neutral/NAME.jpg and expression/NAME.jpg (one name a person),"
+                " or the London Set's neutral_front/ID_03.jpg and smiling_front/ID_08.jpg",
             )
-        )
-        if len(ids) < 2:
-            raise ExprCloneError(root, "needs neutral_front/ID_03.jpg and smiling_front/ID_08.jpg for at least two people")
-        return cls(root, ids)
+        return cls(root, tuple(sorted(photos)), photos)
 
     def path(self, face_id: str, smiling: bool) -> str:
-        return str(self.root / ("smiling_front" if smiling else "neutral_front") / f"{face_id}_{'08' if smiling else '03'}.jpg")
+        """The person's photo: their expression if ``smiling``, else their neutral face."""
+        return self.photos[face_id][int(smiling)]
 
     def pairs(self, n: int, seed: int) -> list[tuple[str, str]]:
         """``n`` ordered pairs of different people drawn with a fixed seed (0: all of them)."""

@@ -57,8 +57,44 @@ def table(summary: list[Row]) -> str:
 
 
 def _cell(line: Row, score: str) -> str:
-    """A score's mean and median in a summary's line."""
-    return f"{line[score + '_mean']:.4f} / {line[score + '_median']:.4f}"
+    """A score's mean and median in a summary's line ("-" where none was measured)."""
+    mean, median = line[score + "_mean"], line[score + "_median"]
+    return "-" if np.isnan(mean) else f"{mean:.4f} / {median:.4f}"
+
+
+#: the scores that tell two methods' results apart, pair by pair.
+TOLD_BY = ("overall", "mouth", "eyes_brows", "identity", "teeth")
+
+
+def alike(rows: list[Row]) -> list[str]:
+    """A sentence for each method whose results score exactly as an earlier method's on every pair they share, with
+    the reason when lambda_k gives it (the elastic model at lambda_k = 0 is its GI, Eq. 6).
+
+    >>> rows = [{"source": "a", "target": "b", "method": m, "lambda_k": lam, "failed": "", **dict.fromkeys(TOLD_BY, 0.1)}
+    ...         for m, lam in (("global", ""), ("elastic", 0.0))]
+    >>> print(*alike(rows))  # doctest: +NORMALIZE_WHITESPACE
+    elastic scores exactly as global on all 1 pairs: the DB metric chose lambda_k = 0 for every one of them, and at 0 the
+    elastic model (Eq. 6) keeps the global warp's landmarks.
+    """
+    scores: dict[str, dict[tuple[str, str], tuple[object, ...]]] = {}
+    for r in rows:
+        if not r["failed"] and r["method"] not in ("no change", "real"):
+            scores.setdefault(r["method"], {})[r["source"], r["target"]] = tuple(r[k] for k in TOLD_BY)
+    said, methods = [], list(scores)
+    for k, method in enumerate(methods):
+        for earlier in methods[:k]:
+            shared = scores[method].keys() & scores[earlier].keys()
+            if shared and all(scores[method][pair] == scores[earlier][pair] for pair in shared):
+                lambdas = {float(r["lambda_k"]) for r in rows if r["method"] == method and r["lambda_k"] != ""}
+                why = (
+                    ": the DB metric chose lambda_k = 0 for every one of them, and at 0 the elastic model (Eq. 6) keeps the global"
+                    " warp's landmarks"
+                    if method.startswith("elastic") and lambdas == {0.0}
+                    else ""
+                )
+                said.append(f"{method} scores exactly as {earlier} on all {len(shared)} pairs{why}.")
+                break
+    return said
 
 
 def contrast_table(lines: list[Row]) -> str:
@@ -73,6 +109,25 @@ def contrast_table(lines: list[Row]) -> str:
 
 def _share(share: float, of: int) -> str:
     return f"{100 * share:.0f}% of {of}" if of else "-"
+
+
+def tables(rows: list[Row], pair_rows: list[Row]) -> list[str]:
+    """The report's tables as Markdown lines: every method over all pairs, a sentence for each method that scores as
+    another (:func:`alike`), the pairs whose target smiles strongly (a sentence when there are none), and the pair-by-pair
+    comparisons of the variants if any; ``pair_rows`` are the rows of the pairs (not of built-in expressions)."""
+    n_strong = len({(r["source"], r["target"]) for r in pair_rows if float(r["target_smile"]) >= STRONG_SMILE})
+    text = ["## All pairs", "", table(summarise(rows)), ""]
+    text += [line for sentence in alike(pair_rows) for line in (sentence, "")]
+    strong = f"## Pairs whose target smiles strongly ({n_strong}: mouth widens by at least {STRONG_SMILE:.0%})"
+    if n_strong:
+        text += [strong, "", table(summarise(rows, strong_only=True)), ""]
+    else:
+        text += [strong, "", f"No target's real expression widens the mouth by {STRONG_SMILE:.0%}: no table.", ""]
+    if contrasts(pair_rows):
+        text += ["## Pair by pair: the elastic model on its GI in each variant, and each variant against the default", ""]
+        text += ["All pairs, then the strong smiles." if n_strong else "All pairs.", "", contrast_table(contrasts(pair_rows)), ""]
+        text += [contrast_table(contrasts(pair_rows, strong_only=True)), ""] if n_strong else []
+    return text
 
 
 def write_report(
@@ -94,7 +149,6 @@ def write_report(
         writer.writerows(rows)
     pair_rows = [r for r in rows if r["source"] in data.ids]  # not a built-in expression's (sections)
     n_pairs = len({(r["source"], r["target"]) for r in pair_rows})
-    n_strong = len({(r["source"], r["target"]) for r in pair_rows if float(r["target_smile"]) >= STRONG_SMILE})
     text = [
         "# exprclone evaluation",
         "",
@@ -112,19 +166,8 @@ def write_report(
         "result), the median of (C*/C*_neutral) / (L*/L*_neutral): 1 for a shading that dims R, G and B alike; real",
         f"skin's shadows are warmer. Grey shadows: the share of results under {GREY_WARMTH} (`exprclone.evaluation.scores.warmth`).",
         "",
-        "## All pairs",
-        "",
-        table(summarise(rows)),
-        "",
-        f"## Pairs whose target smiles strongly ({n_strong}: mouth widens by at least {STRONG_SMILE:.0%})",
-        "",
-        table(summarise(rows, strong_only=True)),
-        "",
     ]
-    if contrasts(pair_rows):
-        text += ["## Pair by pair: the elastic model on its GI in each variant, and each variant against the default", ""]
-        text += ["All pairs, then the strong smiles.", ""]
-        text += [contrast_table(contrasts(pair_rows)), "", contrast_table(contrasts(pair_rows, strong_only=True)), ""]
+    text += tables(rows, pair_rows)
     text += [line for section in sections for line in (section, "")]
     gallery = _gallery(out, data, rows, landmarks, "e+md" if "e+md" in methods else methods[-1], variants[0])
     if gallery:
@@ -220,7 +263,10 @@ def _gallery(
             (result.image, result.landmarks["final"], r["teeth"]),
             (photo(data.path(b, True)), landmarks[data.path(b, True)], row_of[a, b, "real"]["teeth"]),
         ]
-        faces = np.hstack([cv2.resize(image, (360, 360), interpolation=cv2.INTER_AREA) for image, _, _ in cells])
+        tiles = [cv2.resize(image, (360, 360), interpolation=cv2.INTER_AREA) for image, _, _ in cells]
+        for tile, label in zip(tiles, (f"{a}'s expression", f"{b} neutral", f"result: {method}", f"{b}'s real expression")):
+            _caption(tile, label, bottom=True)
+        faces = np.hstack(tiles)
         _caption(faces, f"{name}: {a} -> {b}, mouth error {r['mouth']:.4f}")
         mouths = []
         for image, points, amount in cells:
@@ -243,9 +289,10 @@ def _mouth_close_up(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
     return cv2.resize(crop, (360, 180), interpolation=cv2.INTER_AREA)
 
 
-def _caption(image: np.ndarray, text: str) -> None:
-    """White text, outlined in black, at the image's top left."""
+def _caption(image: np.ndarray, text: str, bottom: bool = False) -> None:
+    """White text, outlined in black, at the image's top left (or bottom left)."""
     import cv2
 
+    at = (8, image.shape[0] - 12 if bottom else 24)
     for colour, thickness in (((0, 0, 0), 4), ((255, 255, 255), 2)):
-        cv2.putText(image, text, (8, 24), cv2.FONT_HERSHEY_SIMPLEX, 0.7, colour, thickness, cv2.LINE_AA)
+        cv2.putText(image, text, at, cv2.FONT_HERSHEY_SIMPLEX, 0.7, colour, thickness, cv2.LINE_AA)

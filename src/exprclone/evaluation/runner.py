@@ -54,10 +54,11 @@ from ..mouth.measure import mouth_width
 from ..options import GLOBAL_WARPS, IMAGE_WARPS, Options
 from ..pipeline.clone import clone_methods
 from ..pipeline.cloner import CloneResult
+from ..pipeline.role_check import descriptor, identity_distance
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .judge import trained_without
 from .london import Dataset
-from .scores import FaceDescriptor, identity_distance, landmark_error, teeth, warmth
+from .scores import landmark_error, teeth, warmth
 
 #: the landmarker that scores every result (on it, on the real smile, for the identity descriptor), whichever
 #: landmarker placed the clone's own landmarks (:func:`run`'s ``landmarker``): so that scores of both compare.
@@ -101,11 +102,6 @@ PAPER: Variant = ("", Options())
 def photo(path: str) -> np.ndarray:
     """A photo, read once while it is among the last :data:`PHOTO_CACHE` used (pairs come sorted by source)."""
     return load_image(path)
-
-
-@functools.cache
-def _descriptor() -> FaceDescriptor:
-    return FaceDescriptor()
 
 
 def smile_strength(neutral: np.ndarray, smile: np.ndarray) -> float:
@@ -212,7 +208,7 @@ def scored_rows(
     source, target = pair
     tn, ts = data.path(target, False), data.path(target, True)
     truth, known = landmarks[ts], {"real": landmarks[ts], "no change": landmarks[tn]}
-    target_descriptor = _descriptor()(photo(tn), landmarks[tn])
+    target_descriptor = descriptor(photo(tn), landmarks[tn])
     target_smile = smile_strength(landmarks[tn], truth)
     judged = trained_without(data, landmarks, pair)
     rows = []
@@ -225,7 +221,7 @@ def scored_rows(
             try:
                 found = known[method] if method in known else shared(JUDGE).detect(image, f"{method} result")
                 row.update(landmark_error(found, truth, DLIB68))
-                row["identity"] = identity_distance(_descriptor()(image, found), target_descriptor)
+                row["identity"] = identity_distance(descriptor(image, found), target_descriptor)
                 row["teeth"] = round(teeth(image, found, DLIB68), 5)
                 row["smiling"] = "" if judged is None else round(judged(found), 4)
                 warm = warmth(image, found, photo(tn), landmarks[tn], DLIB68)

@@ -7,9 +7,9 @@ person's real smile, a clone of A's smile onto B can be compared with B's own sm
   the real smile, after a least-squares similarity alignment (two photos are never
   pixel-aligned), divided by the distance between the outer eye corners; overall, for
   the mouth, and for the eyes and brows;
-* **identity**: the distance between dlib's 128-d face descriptors (the ResNet model in
-  face-recognition-models) of the result and of the target's neutral photo; dlib calls
-  two faces the same person below 0.6;
+* **identity**: the distance between dlib's 128-d face descriptors
+  (:func:`exprclone.pipeline.role_check.descriptor`) of the result and of the target's
+  neutral photo; dlib calls two faces the same person below 0.6;
 * **teeth**: how much tooth shows between the lips (:func:`teeth`), so that a clone of
   a smile that shows teeth can be checked to show them too (:data:`TEETH_SHOWN`);
 * **material swaps**: where the source's two photos show different things, not the same
@@ -22,7 +22,7 @@ person's real smile, a clone of A's smile onto B can be compared with B's own sm
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import cv2
 import numpy as np
@@ -30,7 +30,6 @@ import numpy as np
 from ..details import eri
 from ..imaging import piecewise, raster
 from ..landmarks import align
-from ..landmarks.dlib import model_path
 from ..landmarks.layout import Layout
 from ..mouth.measure import interior, mouth_width
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
@@ -38,8 +37,6 @@ from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 if TYPE_CHECKING:
     from ..pipeline.cloner import CloneResult
 
-#: dlib's threshold: descriptors closer than this are the same person.
-SAME_PERSON = 0.6
 #: teeth show from this area of tooth-coloured pixels on, in squared mouth widths: 12 mm²
 #: in a 55 mm wide smile, a sliver one front tooth wide and 1.5 mm high. On the London
 #: Set's 72 people (detected landmarks) it lies between the most a closed mouth scores
@@ -169,29 +166,6 @@ def shadows(
     darker = skin_of(result.shape, landmarks, layout) & (l_r < l_n - DARKER) & (chroma_n > 1.0)
     warmer = (chroma_r / np.maximum(chroma_n, 1e-6)) / (np.maximum(l_r, 1e-6) / np.maximum(l_n, 1e-6))
     return darker, warmer
-
-
-class FaceDescriptor:
-    """dlib's 128-d face descriptor (ResNet), loaded lazily on first use."""
-
-    def __init__(self) -> None:
-        self._model: Any = None  # dlib's model, loaded on first use (dlib has no type information)
-
-    def __call__(self, image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
-        """The descriptor of the face with these 68 landmarks, ``(128,)``."""
-        import dlib
-
-        if self._model is None:
-            self._model = dlib.face_recognition_model_v1(model_path("dlib_face_recognition_resnet_model_v1.dat"))
-        lo, hi = landmarks.min(0), landmarks.max(0)
-        box = dlib.rectangle(*(int(v) for v in (lo[0], lo[1], hi[0], hi[1])))
-        shape = dlib.full_object_detection(box, [dlib.point(int(round(x)), int(round(y))) for x, y in landmarks])
-        return np.array(self._model.compute_face_descriptor(np.ascontiguousarray(image), shape))
-
-
-def identity_distance(a: np.ndarray, b: np.ndarray) -> float:
-    """Euclidean distance of two face descriptors (same person below :data:`SAME_PERSON`)."""
-    return float(np.linalg.norm(a - b))
 
 
 def material_swaps(result: CloneResult, source_neutral: np.ndarray, source_expression: np.ndarray, layout: Layout) -> np.ndarray:

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..pipeline.role_check import SAME_PERSON
 from .judge import SMILING
 from .runner import REFERENCES, Row
-from .scores import GREY_WARMTH, SAME_PERSON, TEETH_SHOWN
+from .scores import GREY_WARMTH, TEETH_SHOWN
 
 #: resamples of the bootstrap interval of a median (:func:`median_interval`), and its seed.
 RESAMPLES, SEED = 2000, 0

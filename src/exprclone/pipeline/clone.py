@@ -97,8 +97,8 @@ def prepare(
         for im, p, role in zip(images, given, ROLES)
     )
     cloner = Cloner(images[0], s_neu, images[2], t_neu, asked)
-    neutral, expression = role_check.Photo.of(images[0], s_neu, layout), role_check.Photo.of(images[1], s_exp, layout)
-    said = tuple(role_check.judge_roles(neutral, expression, layout))
+    neutral, expression, target = (role_check.Photo.of(im, p, layout) for im, p in zip(images, (s_neu, s_exp, t_neu)))
+    said = tuple(role_check.judge_roles(neutral, expression, layout, target))
     for message in said:
         warnings.warn(message, ExprCloneWarning, stacklevel=3)
     prepared = cloner.prepare(images[1], s_exp, methods, crop=expression.crop)

@@ -1,62 +1,89 @@
-"""Whether the source's two photos are in their roles: one person, its "neutral" face the less expressive of the two.
+"""Whether the three photos are in their roles: the source's two one person, its "neutral" face the less expressive.
 
-Not in the paper, which takes its inputs as given. Photos given in the wrong order (the smile as
-the source's neutral, or two people as the source) give a clone that frowns or smears with no
-error, so :func:`judge_roles` says when they look wrong; the clone goes on (a warning, not an error).
+Not in the paper, which takes its inputs as given. Photos given in the wrong boxes (the smile as
+the source's neutral, two people as the source, the target's photo as one of the source's) give a
+clone that frowns or smears with no error, so :func:`judge_roles` says when they look wrong; the
+clone goes on (a warning, not an error).
 
-Two measures, on the photos and their landmarks:
+Who a face is:
 
-- identity (:func:`identity_distance`): the two photos' faces differ by more than an expression
-  changes one face. It adds the distance between the two grey crops of the upper face (eye centres
-  aligned, :func:`exprclone.geometry.eigenface.crop`; the rows from the brows to the upper lip, which a
-  smile changes least; zero mean and unit norm each, so the light's level and contrast drop out)
-  and :data:`SHAPE_WEIGHT` times the root-mean-square distance between the eye corners and nose
-  bridge of the two faces, similarity-aligned, in eye distances (a face's proportions);
-- expressiveness (:func:`expressiveness`): how far a face's moving landmarks (brows, lids,
-  lips) lie from :data:`NEUTRAL_FACE`, the mean neutral face of the London Set, once the
-  face's rigid landmarks are aligned on it (root-mean-square, in eye distances). One person's
-  proportions move both photos alike, so of two photos of one person the more expressive is the
-  farther.
+- :func:`identity_distance`: the distance between two faces' 128-d descriptors from dlib's ResNet
+  (:func:`descriptor`; the model shipped in ``face-recognition-models``, released into the public
+  domain by its author), which was trained to put each person's faces within 0.6 of each other
+  (:data:`SAME_PERSON`), whatever their expression;
+- :func:`appearance_distance`, a quick first look: the distance between the two grey crops of the
+  upper face (eye centres aligned, :func:`exprclone.geometry.eigenface.crop`; the rows from the brows
+  to the upper lip, which a smile changes least; zero mean and unit norm each) plus
+  :data:`SHAPE_WEIGHT` times the root-mean-square distance between the eye corners and nose bridge
+  of the two faces, similarity-aligned, in eye distances. Two photos closer than
+  :data:`SURELY_SAME` are one person's, and the descriptors (about 0.2 s a photo) are not computed.
 
-The bounds (:data:`MAX_IDENTITY`, :data:`MIN_SWAP`) and the rates they give on the London Set
-(right order flagged, swapped or mismatched caught) are measured by ``tools/role_check.py``.
+Which photo is the neutral face:
+
+- :func:`expressiveness`: how far a face's moving landmarks (brows, lids, lips) lie from
+  :data:`NEUTRAL_FACE`, the mean neutral face of the London Set, once its rigid landmarks are
+  aligned on it (root-mean-square, in eye distances): any expression moves them;
+- :func:`smile`: how far they lie along :data:`SMILE`, the direction in which the London Set's
+  smiles move them from each person's neutral face (a ridge regression). A weak smile hardly
+  changes the expressiveness, but it always moves the landmarks this way.
+
+The source's photos look swapped when the "neutral" one is more expressive by over
+:data:`MIN_SWAP`, or when it smiles more and is not clearly less expressive (by :data:`GATE`:
+an expression that is no smile, a surprise, may smile less than a neutral face, but it moves the
+face far more).
+
+The bounds, and the rates they give on the London Set for every kind of mistake (the smile's
+direction and the mean face learnt without the person judged), are measured by
+``tools/role_check.py``.
 """
 
 from __future__ import annotations
 
+import functools
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib import resources
+from typing import Any
 
 import numpy as np
 
 from ..geometry.eigenface import crop, normalise
 from ..landmarks import align
+from ..landmarks.dlib import model_path
 from ..landmarks.layout import Layout
 
-#: rows of the 64-pixel eye-aligned crop compared for identity: from the brows to the upper lip.
+#: rows of the 64-pixel eye-aligned crop compared for appearance: from the brows to the upper lip.
 IDENTITY_ROWS = slice(8, 44)
-#: the weight of the landmarks' distance (eye distances) beside the crops' (unit-norm) in the identity distance.
+#: the weight of the landmarks' distance (eye distances) beside the crops' (unit-norm) in the appearance distance.
 SHAPE_WEIGHT = 20.0
-#: the identity distance over which the source's two photos look like two people.
-MAX_IDENTITY = 1.13
+#: the appearance distance under which two photos are taken for one person's without their descriptors (no two
+#: people of the London Set come closer than 0.66; one person's two photos: 44% of them).
+SURELY_SAME = 0.6
+#: the descriptors' distance under which two faces are one person's (dlib's: its model was trained to it).
+SAME_PERSON = 0.6
 #: how much more expressive (eye distances) the "neutral" photo must look than the "expression" to be called swapped.
-MIN_SWAP = 0.007
+MIN_SWAP = 0.01
+#: how much less expressive the "neutral" photo may look, and still be called swapped when it smiles more.
+GATE = 0.01
 
 
-def _neutral_face() -> np.ndarray:
+def _learnt() -> dict[str, Any]:
     with resources.as_file(resources.files("exprclone") / "data" / "neutral_face.json") as path:
-        return np.array(json.loads(path.read_text())["landmarks"], float)
+        return dict(json.loads(path.read_text()))
 
 
 #: the mean neutral face of the London Set's 72 people (dlib's 68 points, outer eye corners at (0, 0) and (1, 0)),
 #: written by ``tools/role_check.py --write-template``.
-NEUTRAL_FACE = _neutral_face()
+NEUTRAL_FACE = np.array(_learnt()["landmarks"], float)
+#: the direction in which a smile moves the moving landmarks (:func:`moving`) of a face aligned on
+#: :data:`NEUTRAL_FACE`, written with it: a smile's :func:`smile` exceeds its neutral face's.
+SMILE = np.array(_learnt()["smile"], float)
 
 
 @dataclass(frozen=True)
 class Photo:
-    """What the role check takes of a photo: its landmarks and its eye-aligned grey crop (:func:`exprclone.geometry.eigenface.crop`).
+    """What the role check takes of a photo: its landmarks, its eye-aligned grey crop
+    (:func:`exprclone.geometry.eigenface.crop`), and the photo for its descriptor, made when first asked for.
 
     A clone whose lambda_k the DB metric chooses compares the same crop of the source's expression
     (:func:`exprclone.geometry.db_metric.choose_lambda`): :func:`exprclone.clone_methods` makes it once for both.
@@ -64,15 +91,43 @@ class Photo:
 
     points: np.ndarray
     crop: np.ndarray
+    image: np.ndarray = field(repr=False, compare=False)
 
     @classmethod
     def of(cls, image: np.ndarray, points: np.ndarray, layout: Layout) -> Photo:
         """The role check's view of an ``(H, W, 3)`` photo with its ``(N, 2)`` landmarks."""
-        return cls(points, crop(image, points, layout))
+        return cls(points, crop(image, points, layout), image)
+
+    @functools.cached_property
+    def descriptor(self) -> np.ndarray:
+        """Its face's :func:`descriptor`."""
+        return descriptor(self.image, self.points)
 
 
-def identity_distance(a: Photo, b: Photo, layout: Layout) -> float:
-    """How unlike two faces are, beyond an expression (see the module's notes): 0 for one photo twice."""
+@functools.cache
+def _model():  # type: ignore[no-untyped-def]  # (dlib has no type information)
+    import dlib
+
+    return dlib.face_recognition_model_v1(model_path("dlib_face_recognition_resnet_model_v1.dat"))
+
+
+def descriptor(image: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """dlib's 128-d descriptor of the face with these 68 landmarks in an ``(H, W, 3)`` uint8 RGB photo."""
+    import dlib
+
+    lo, hi = points.min(0), points.max(0)
+    box = dlib.rectangle(*(int(v) for v in (lo[0], lo[1], hi[0], hi[1])))
+    shape = dlib.full_object_detection(box, [dlib.point(int(round(x)), int(round(y))) for x, y in points])
+    return np.array(_model().compute_face_descriptor(np.ascontiguousarray(image), shape))
+
+
+def identity_distance(a: np.ndarray, b: np.ndarray) -> float:
+    """The distance between two :func:`descriptor` s: under :data:`SAME_PERSON` for one person's faces."""
+    return float(np.linalg.norm(a - b))
+
+
+def appearance_distance(a: Photo, b: Photo, layout: Layout) -> float:
+    """How unlike two faces look, beyond an expression (see the module's notes): 0 for one photo twice."""
     crops = normalise(np.stack([p.crop[IDENTITY_ROWS] for p in (a, b)]))
     idx = [k for k in layout.rigid if k not in layout.jaw]  # the nose bridge and the eye corners
     pa, pb = (p.points / align.interocular(p.points, layout) for p in (a, b))
@@ -81,32 +136,66 @@ def identity_distance(a: Photo, b: Photo, layout: Layout) -> float:
     return float(np.linalg.norm(crops[0] - crops[1])) + SHAPE_WEIGHT * shape
 
 
-def expressiveness(points: np.ndarray, layout: Layout) -> float:
-    """How far a face's moving landmarks lie from :data:`NEUTRAL_FACE`, its rigid landmarks aligned on it (eye distances)."""
+def one_person(a: Photo, b: Photo, layout: Layout) -> bool:
+    """Whether two photos show one person: alike at a first look (:data:`SURELY_SAME`), or by their descriptors."""
+    return appearance_distance(a, b, layout) < SURELY_SAME or identity_distance(a.descriptor, b.descriptor) < SAME_PERSON
+
+
+def moving(points: np.ndarray, layout: Layout) -> np.ndarray:
+    """A face's moving landmarks (brows, lids, lips; not the rigid ones), in eye distances, its rigid landmarks aligned
+    on :data:`NEUTRAL_FACE`: ``(M, 2)``."""
     unit = points / align.interocular(points, layout)
     aligned = align.apply(align.fit_rigid(unit, NEUTRAL_FACE, layout), unit)
-    moving = [k for organ in (*layout.brows, *layout.eyes, layout.mouth_outer, layout.mouth_inner) for k in organ if k not in layout.rigid]
-    return float(np.sqrt(((aligned[moving] - NEUTRAL_FACE[moving]) ** 2).sum(1).mean()))
+    organs = (*layout.brows, *layout.eyes, layout.mouth_outer, layout.mouth_inner)
+    return aligned[[k for organ in organs for k in organ if k not in layout.rigid]]
 
 
-def judge_roles(neutral: Photo, expression: Photo, layout: Layout) -> list[str]:
-    """What looks wrong with the source's two photos, as messages (none when they look right).
+def expressiveness(points: np.ndarray, layout: Layout) -> float:
+    """How far a face's :func:`moving` landmarks lie from :data:`NEUTRAL_FACE`'s (root-mean-square, eye distances)."""
+    return float(np.sqrt(((moving(points, layout) - moving(NEUTRAL_FACE, layout)) ** 2).sum(1).mean()))
+
+
+def smile(points: np.ndarray, layout: Layout) -> float:
+    """How far a face's :func:`moving` landmarks lie along :data:`SMILE`: more for a smile than for its neutral face."""
+    return float(moving(points, layout).ravel() @ SMILE)
+
+
+def swapped(neutral: np.ndarray, expression: np.ndarray, layout: Layout) -> bool:
+    """Whether the source's photos with these landmarks look swapped (the module's notes)."""
+    more = expressiveness(neutral, layout) - expressiveness(expression, layout)
+    return more > MIN_SWAP or (smile(neutral, layout) > smile(expression, layout) and more > -GATE)
+
+
+def judge_roles(neutral: Photo, expression: Photo, layout: Layout, target: Photo | None = None) -> list[str]:
+    """What looks wrong with the photos, as messages (none when they look right).
 
     Parameters
     ----------
     neutral, expression : Photo
         The source's photos as given: its neutral face, and its expression.
     layout : Layout
+    target : Photo, optional
+        The target's photo as given: when the source's two photos show two people, whether it shows one of them says
+        which photos were swapped.
 
     Returns
     -------
     list of str
-        "two different people" when :func:`identity_distance` is over :data:`MAX_IDENTITY`; "the
-        neutral face looks more expressive" when its :func:`expressiveness` exceeds the
-        expression's by :data:`MIN_SWAP` (only for one person: two people's faces differ anyway).
+        Two people (:func:`one_person`), and which boxes look swapped when the target's photo shows one of them; else
+        "the neutral face looks more expressive" when the two look swapped (:func:`swapped`).
     """
-    if identity_distance(neutral, expression, layout) > MAX_IDENTITY:
+    if not one_person(neutral, expression, layout):
+        if target is not None and one_person(target, expression, layout):
+            return [
+                "source_neutral: looks like another person than source_expression, and target_neutral like the same person"
+                " as source_expression; are source_neutral and target_neutral swapped?"
+            ]
+        if target is not None and one_person(target, neutral, layout):
+            return [
+                "source_expression: looks like another person than source_neutral, and target_neutral like the same person"
+                " as source_neutral; are source_expression and target_neutral swapped?"
+            ]
         return ["source_expression: looks like another person than source_neutral; the source's two photos should show one person"]
-    if expressiveness(neutral.points, layout) - expressiveness(expression.points, layout) > MIN_SWAP:
+    if swapped(neutral.points, expression.points, layout):
         return ["source_neutral: looks more expressive than source_expression; are the source's two photos swapped?"]
     return []
