@@ -144,9 +144,11 @@ def _share(share: float, of: int) -> str:
 def _summary_table(summary: list[dict]) -> list[str]:
     header = ["method", "pairs", "failed", "landmark error, mean / median", "mouth, mean / median", "mouth minus global, paired"]
     header += ["eyes and brows, mean / median", "identity, mean / median", "same person", "teeth: source shows", "teeth: source shows none"]
+    header += ["judged smiling", "shadow warmth, median [95% interval]", "grey shadows"]
     rows = []
     for s in summary:
-        pair = lambda key: f"{s[key + '_mean']:.4f} / {s[key + '_median']:.4f}"  # noqa: E731
+        pair = lambda key: "-" if s[key + "_mean"] != s[key + "_mean"] else f"{s[key + '_mean']:.4f} / {s[key + '_median']:.4f}"  # noqa: E731
+        warmth = "-" if not s["warmth_n"] else f"{s['warmth']:.3f} [{s['warmth_low']:.3f}, {s['warmth_high']:.3f}]"
         rows.append(
             [f"``{s['method']}``", str(s["pairs"]), str(s["failed"]), pair("overall"), pair("mouth")]
             + [f"{s['mouth_vs_baseline']:+.4f} ± {s['mouth_vs_baseline_se']:.4f}", pair("eyes_brows"), pair("identity")]
@@ -154,6 +156,9 @@ def _summary_table(summary: list[dict]) -> list[str]:
                 f"{100 * s['same_person']:.0f}%",
                 _share(s["teeth_kept"], s["teeth_sources"]),
                 _share(s["teeth_invented"], s["closed_sources"]),
+                "-" if s["smiling"] != s["smiling"] else f"{100 * s['smiling']:.0f}%",
+                warmth,
+                _share(s["grey"], s["warmth_n"]),
             ]
         )
     return _list_table(header, rows)
@@ -190,6 +195,7 @@ def _scores_figure(summaries: dict[str, list[dict]], out: Path) -> None:
 
 def render_evaluation() -> str | None:
     """``evaluation.rst`` from the kept report; the README's headline table (Markdown)."""
+    from exprclone.evaluation.report import alike
     from exprclone.evaluation.statistics import STRONG_SMILE, contrasts, summarise
 
     kept = KEPT / "evaluate"
@@ -217,8 +223,15 @@ def render_evaluation() -> str | None:
         "- **identity**: dlib's face-descriptor distance to the target's neutral photo (the same person below 0.6);",
         "- **teeth**: of the pairs whose source's smile shows teeth, the share of results that show teeth; of the others,",
         "  the share that show teeth all the same;",
+        "- **judged smiling**: the share of results that an expression judge (a classifier on the landmarks, trained",
+        "  without the pair's two people) calls smiling;",
+        "- **shadow warmth**: over the skin that darkens by more than 6 L* from the target's neutral photo, the median of",
+        "  (C*/C*_neutral) / (L*/L*_neutral): 1 for a shading that dims R, G and B alike, more for real skin's warmer",
+        "  shadows (:doc:`../explanation/fidelity`); its median over the results with such skin, with a bootstrap interval,",
+        "  and the share of them under 1.08 (grey shadows);",
         "- ``no change`` (the neutral photo as the result) and ``real`` (the real smile) are the floor and the ceiling.",
         "",
+        *[line for sentence in alike(rows) for line in (sentence, "")],
         "Rows marked ``[rbf]`` run on the RBF transfer's global warp (the paper's Figs. 19-20) instead of the",
         "similarity transfer; :doc:`../explanation/global-warps` discusses them.",
         "",
