@@ -315,9 +315,23 @@ def test_ctrl_c_stops_the_server_and_removes_its_temporary_files(tmp_path):
     made = set(tmp_path.glob("exprclone-serve-*"))
     assert len(made) == 1
     out, err = running.stop()
-    assert running.process.returncode == 0 and "stopped" in out, err
+    assert running.process.returncode == 130 and out.endswith("exprclone: stopped\n") and "interrupted" not in err, err
     assert not any(p.exists() for p in made)
     assert json.dumps(err).count("Traceback") == 0
+
+
+def test_a_port_in_use_is_a_one_line_error_not_a_stopped_server():
+    import socket
+
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        done = subprocess.run(
+            [sys.executable, "-m", "exprclone", "serve", "--workers", "1", "--port", str(port)], capture_output=True, text=True, timeout=120
+        )
+    assert done.returncode == 2 and "stopped" not in done.stdout, done
+    assert f"exprclone: error: serve: could not start on 127.0.0.1:{port}" in done.stderr and "Traceback" not in done.stderr
 
 
 @pytest.fixture(scope="module")

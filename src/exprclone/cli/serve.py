@@ -92,7 +92,8 @@ def connection_bounds(args: argparse.Namespace) -> dict[str, Any]:
 
 def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> None:
     """Serve ``app`` with uvicorn on ``args.host`` and ``args.port``, within the connection bounds; print ``said`` once it
-    answers (its start-up done: the workers ready, the port bound), and "stopped" when it stops."""
+    answers (its start-up done: the workers ready, the port bound), and "stopped" when it stops: exit status 130 after
+    Ctrl-C, 0 after SIGTERM. ExprCloneError if it cannot start (the port in use: uvicorn logs the reason first)."""
     import uvicorn
 
     class Announced(uvicorn.Server):
@@ -102,10 +103,17 @@ def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> Non
                 print(f"exprclone: {said}", flush=True)
 
     config = uvicorn.Config(app, host=args.host, port=args.port, log_level="warning", **connection_bounds(args), **options)
+    server = Announced(config)
     try:
-        Announced(config).run()
-    finally:  # (uvicorn raises Ctrl-C again once it has stopped)
+        server.run()
+    except KeyboardInterrupt:  # (uvicorn raises Ctrl-C again once it has stopped): 128 + SIGINT, as a shell counts it
         print("exprclone: stopped", flush=True)
+        raise SystemExit(130) from None
+    except SystemExit:
+        if server.started:
+            raise
+        raise ExprCloneError("serve", f"could not start on {args.host}:{args.port} (uvicorn's reason above)") from None
+    print("exprclone: stopped", flush=True)  # (SIGTERM)
 
 
 def run(args: argparse.Namespace) -> None:

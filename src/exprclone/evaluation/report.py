@@ -130,6 +130,28 @@ def tables(rows: list[Row], pair_rows: list[Row]) -> list[str]:
     return text
 
 
+def _introduction(command: str, data: Dataset, n_pairs: int) -> list[str]:
+    """The summary's opening: the command, the data, and what each column measures."""
+    return [
+        "# exprclone evaluation",
+        "",
+        f"`{command}`",
+        "",
+        f"{n_pairs} ordered pairs of different people from `{data.root}`;",
+        "each method's result is scored against the target's real smile. Landmark errors are in",
+        "outer-eye-corner distances after similarity alignment; identity is dlib's face-descriptor",
+        "distance to the target's neutral photo (same person below 0.6). Teeth show when tooth-coloured",
+        f"pixels (paler and brighter than the lips) cover at least {TEETH_SHOWN} squared mouth widths",
+        "inside the inner lips (`exprclone.evaluation.teeth`); the two teeth columns give, of the pairs whose source's",
+        "real smile shows teeth and of those whose does not, the share of results that do; the last, the share that the",
+        "expression judge (a classifier on the landmarks, trained without the pair's two people) calls smiling.",
+        "Shadow warmth: over the skin that darkens by more than 6 L* from the target's neutral photo (warped onto the",
+        "result), the median of (C*/C*_neutral) / (L*/L*_neutral): 1 for a shading that dims R, G and B alike; real",
+        f"skin's shadows are warmer. Grey shadows: the share of results under {GREY_WARMTH} (`exprclone.evaluation.scores.warmth`).",
+        "",
+    ]
+
+
 def write_report(
     out: Path,
     data: Dataset,
@@ -149,24 +171,7 @@ def write_report(
         writer.writerows(rows)
     pair_rows = [r for r in rows if r["source"] in data.ids]  # not a built-in expression's (sections)
     n_pairs = len({(r["source"], r["target"]) for r in pair_rows})
-    text = [
-        "# exprclone evaluation",
-        "",
-        f"`{command}`",
-        "",
-        f"{n_pairs} ordered pairs of different people from `{data.root}`;",
-        "each method's result is scored against the target's real smile. Landmark errors are in",
-        "outer-eye-corner distances after similarity alignment; identity is dlib's face-descriptor",
-        "distance to the target's neutral photo (same person below 0.6). Teeth show when tooth-coloured",
-        f"pixels (paler and brighter than the lips) cover at least {TEETH_SHOWN} squared mouth widths",
-        "inside the inner lips (`exprclone.evaluation.teeth`); the two teeth columns give, of the pairs whose source's",
-        "real smile shows teeth and of those whose does not, the share of results that do; the last, the share that the",
-        "expression judge (a classifier on the landmarks, trained without the pair's two people) calls smiling.",
-        "Shadow warmth: over the skin that darkens by more than 6 L* from the target's neutral photo (warped onto the",
-        "result), the median of (C*/C*_neutral) / (L*/L*_neutral): 1 for a shading that dims R, G and B alike; real",
-        f"skin's shadows are warmer. Grey shadows: the share of results under {GREY_WARMTH} (`exprclone.evaluation.scores.warmth`).",
-        "",
-    ]
+    text = _introduction(command, data, n_pairs)
     text += tables(rows, pair_rows)
     text += [line for section in sections for line in (section, "")]
     gallery = _gallery(out, data, rows, landmarks, "e+md" if "e+md" in methods else methods[-1], variants[0])
