@@ -274,19 +274,21 @@ def render_evaluation() -> str | None:
 
 
 def _headline(summaries: dict[str, list[dict]], meta: dict) -> str:
-    """The README's small table: the default setting's main methods, all pairs and broad smiles."""
+    """The README's small table: the default setting's main methods, all pairs and broad smiles, and the shadows' warmth."""
     shown = ("no change", "global", "elastic", "global+eri", "e+md", "real")
     every, broad = (({s["method"]: s for s in summary}) for summary in summaries.values())
     lines = [
         f"`{meta['command']}` ({meta['date']}, exprclone {meta['version']}):",
         "",
-        "| method | mouth error, all pairs | mouth error, broad smiles | identity distance | shows teeth when the source does |",
-        "|---|---|---|---|---|",
+        "| method | mouth error, all pairs | mouth error, broad smiles | identity distance | shows teeth when the source does"
+        " | shadow warmth (median) |",
+        "|---|---|---|---|---|---|",
     ]
     for name in shown:
         s, b = every[name], broad[name]
         teeth = f"{100 * s['teeth_kept']:.0f}%" if s["teeth_sources"] else "-"
-        lines.append(f"| {name} | {s['mouth_mean']:.4f} | {b['mouth_mean']:.4f} | {s['identity_mean']:.3f} | {teeth} |")
+        warmth = f"{s['warmth']:.2f}" if s["warmth_n"] else "-"
+        lines.append(f"| {name} | {s['mouth_mean']:.4f} | {b['mouth_mean']:.4f} | {s['identity_mean']:.3f} | {teeth} | {warmth} |")
     return "\n".join(lines)
 
 

@@ -41,7 +41,8 @@ def table(summary: list[Row]) -> str:
     ]
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     for s in summary:
-        paired = f"{s['mouth_vs_baseline']:+.4f} ± {s['mouth_vs_baseline_se']:.4f}"
+        # "-" where global was not run
+        paired = "-" if np.isnan(s["mouth_vs_baseline"]) else f"{s['mouth_vs_baseline']:+.4f} ± {s['mouth_vs_baseline_se']:.4f}"
         values = [s["method"], s["pairs"], s["failed"], _cell(s, "overall"), _cell(s, "mouth"), paired, _cell(s, "eyes_brows")]
         values.append(_cell(s, "identity"))
         values += [
