@@ -123,6 +123,24 @@ def test_bad_options(london, tmp_path, args, needle):
     assert not (tmp_path / "r.png").exists()
 
 
+@pytest.mark.parametrize(
+    "words, said, meant",
+    [
+        (["clone", SN, SE, TN, "-o", "r.png", "--strenght", "0.5"], "unrecognized arguments: --strenght 0.5", "--strength"),
+        (["clone", SN, SE, TN, "--ouput", "r.png"], "unrecognized arguments: --ouput", "--output"),  # not "-o is required"
+        (["clone", SN, SE, TN, "-o", "r.png", "--method", "e+mb"], "invalid choice: 'e+mb'", "e+md"),
+        (["clne"], "invalid choice: 'clne'", "clone"),
+        (["study", "serv"], "invalid choice: 'serv'", "serve"),
+    ],
+)
+def test_a_mistyped_word_is_one_line_with_the_closest_and_the_commands_help(tmp_path, words, said, meant):
+    p = run(*[str(tmp_path / w) if w == "r.png" else w for w in words])
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and said in lines[0] and f"(did you mean {meant}?)" in lines[0], p.stderr
+    helped = "exprclone --help" if words == ["clne"] else f"exprclone {words[0]} --help"
+    assert lines[0].endswith(f"; see {helped}") and not list(tmp_path.iterdir())
+
+
 def test_compare_draws_the_sheet(london, tmp_path):
     out = tmp_path / "panel.png"
     p = run("compare", SN, SE, TN, "-o", out)

@@ -50,7 +50,9 @@ class Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:
         command = self._command()
         options = [o for action in command._actions for o in action.option_strings]
-        typed = [w.split("=")[0] for w in Parser.words if w.startswith("--") and w.split("=")[0] not in options]
+        typed = [w.split("=")[0] for w in Parser.words if w.startswith("--") and w != "--" and w.split("=")[0] not in options]
+        if typed and "required" in message:  # a mistyped option is why the one it meant is missing: say that first
+            message = f"unrecognized arguments: {' '.join(typed)}"
         if "unrecognized" in message:
             close = [m for w in typed for m in difflib.get_close_matches(w, options, n=1, cutoff=0.6)]
         else:  # an invalid choice: the closest of those the message lists
