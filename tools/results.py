@@ -228,7 +228,9 @@ def render_evaluation() -> str | None:
         "- **shadow warmth**: over the skin that darkens by more than 6 L* from the target's neutral photo, the median of",
         "  (C*/C*_neutral) / (L*/L*_neutral): 1 for a shading that dims R, G and B alike, more for real skin's warmer",
         "  shadows (:doc:`../explanation/fidelity`); its median over the results with such skin, with a bootstrap interval,",
-        "  and the share of them under 1.08 (grey shadows);",
+        "  and the share of them under 1.08 (grey shadows). The methods without ERI shade nothing: the few results in",
+        "  which they darken enough skin to be measured are those whose warp and the neutral photo's warp onto the result's",
+        "  landmarks do not line up, so their figure is not a shadow's colour;",
         "- ``no change`` (the neutral photo as the result) and ``real`` (the real smile) are the floor and the ceiling.",
         "",
         *[line for sentence in alike(rows) for line in (sentence, "")],
@@ -281,13 +283,13 @@ def _headline(summaries: dict[str, list[dict]], meta: dict) -> str:
         f"`{meta['command']}` ({meta['date']}, exprclone {meta['version']}):",
         "",
         "| method | mouth error, all pairs | mouth error, broad smiles | identity distance | shows teeth when the source does"
-        " | shadow warmth (median) |",
+        " | shadow warmth: median (results with shadows) |",
         "|---|---|---|---|---|---|",
     ]
     for name in shown:
         s, b = every[name], broad[name]
         teeth = f"{100 * s['teeth_kept']:.0f}%" if s["teeth_sources"] else "-"
-        warmth = f"{s['warmth']:.2f}" if s["warmth_n"] else "-"
+        warmth = f"{s['warmth']:.2f} ({s['warmth_n']})" if s["warmth_n"] else "-"
         lines.append(f"| {name} | {s['mouth_mean']:.4f} | {b['mouth_mean']:.4f} | {s['identity_mean']:.3f} | {teeth} | {warmth} |")
     return "\n".join(lines)
 
