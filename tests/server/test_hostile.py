@@ -1,6 +1,7 @@
 """A real server probed as an attacker would (issue D1-D5, N1): 4xx with one line, errors then proper closes on the
 WebSocket, idle connections closed, failed jobs giving their place back, memory bounded, and no traceback in the log."""
 
+import contextlib
 import io
 import json
 import struct
@@ -268,17 +269,17 @@ def test_an_idle_live_session_is_closed_and_frees_its_slot():
     after 2 s (an error, then 1008), and a third starts."""
     server = Server("--workers", "1", "--max-live", "2", "--live-idle", "2")
     try:
-        sockets = [connect(ws(server), max_size=None) for _ in range(2)]
-        for socket in sockets:
-            socket.send(START)
-            socket.send(PORTRAIT)
-            assert json.loads(socket.recv(timeout=60))["type"] == "ready"
-        started = time.time()
-        for socket in sockets:
-            said, code = refused(socket)
-            assert said == "live: no frame for 2 s: the session ends and its slot is free" and code == 1008
-            socket.close()
-        assert time.time() - started < 10
+        with contextlib.ExitStack() as opened:
+            sockets = [opened.enter_context(connect(ws(server), max_size=None)) for _ in range(2)]
+            for socket in sockets:
+                socket.send(START)
+                socket.send(PORTRAIT)
+                assert json.loads(socket.recv(timeout=60))["type"] == "ready"
+            started = time.time()
+            for socket in sockets:
+                said, code = refused(socket)
+                assert said == "live: no frame for 2 s: the session ends and its slot is free" and code == 1008
+            assert time.time() - started < 10
         with connect(ws(server), max_size=None) as third:
             third.send(START)
             third.send(PORTRAIT)

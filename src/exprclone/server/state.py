@@ -65,9 +65,15 @@ class Work:
                 raise Busy("a worker stopped unexpectedly; try again") from None
 
     def close(self) -> None:
-        """Stop the workers (jobs not yet started are cancelled) and remove the temporary folder."""
+        """Stop the workers and remove the temporary folder. The requests have been answered by then (uvicorn waits for
+        them); a video job still queued is cancelled, and one still running is stopped: its result would go with the
+        folder, and a Ctrl-C should not wait for it."""
         for pool in (self.pool, self.video_pool):
-            pool.shutdown(wait=True, cancel_futures=True)
+            processes = list(pool._processes.values())  # (Python 3.14's terminate_workers does this)
+            pool.shutdown(wait=False, cancel_futures=True)
+            for process in processes:
+                process.terminate()
+                process.join()
         self.live_hosts.close()
         shutil.rmtree(self.folder, ignore_errors=True)
 
