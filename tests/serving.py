@@ -39,6 +39,7 @@ class Server:
         self.url = f"http://127.0.0.1:{self.port}"
         command = [sys.executable, "-m", "exprclone", *command, "--port", str(self.port), *args]
         self.output = tempfile.TemporaryFile("w+"), tempfile.TemporaryFile("w+")
+        self.said: list[str] = []  # its output, once stopped
         environment = None if env is None else {**os.environ, **env}
         self.process = subprocess.Popen(
             command, stdout=self.output[0], stderr=self.output[1], text=True, env=environment, preexec_fn=interruptible
@@ -54,7 +55,7 @@ class Server:
         raise RuntimeError(f"the server did not start: {self.stop()[1]}")
 
     def stop(self) -> tuple[str, str]:
-        """Ctrl-C (SIGINT) to the server's own PID, as a user would stop it; its output."""
+        """Ctrl-C (SIGINT) to the server's own PID, as a user would stop it; its output (stdout, stderr)."""
         if self.process.poll() is None:
             os.kill(self.process.pid, signal.SIGINT)
         try:
@@ -62,8 +63,9 @@ class Server:
         except subprocess.TimeoutExpired:
             self.process.kill()
             self.process.wait()
-        texts = []
-        for file in self.output:
-            file.seek(0)
-            texts.append(file.read())
-        return texts[0], texts[1]
+        if not self.said:  # (once: the files are closed after)
+            for file in self.output:
+                file.seek(0)
+                self.said.append(file.read())
+                file.close()
+        return self.said[0], self.said[1]
