@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import ExprCloneError
 from ..options import Options, names
-from .inputs import add_expression, add_options, load_expression, options_of
+from .inputs import Interrupted, add_expression, add_options, load_expression, options_of
 
 if TYPE_CHECKING:
     import numpy as np
@@ -107,7 +107,7 @@ def run(args: argparse.Namespace) -> None:
             f"\nexprclone: interrupted; the {len(outcomes)} rows finished are whole, the report is {report}; run again to resume",
             file=sys.stderr,
         )
-        raise SystemExit(130) from None
+        raise Interrupted from None
     job.write_report(report, rows, outcomes)
     counts = {status: sum(o.status == status for o in outcomes.values()) for status in ("done", "skipped", "failed")}
     done = f"{counts['done']} done, {counts['skipped']} skipped (output already there), {counts['failed']} failed"

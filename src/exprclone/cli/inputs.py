@@ -23,6 +23,11 @@ if TYPE_CHECKING:
 T = TypeVar("T")
 
 
+class Interrupted(Exception):
+    """Ctrl-C, after the command has said what it leaves (batch: the rows finished; serve: "stopped"):
+    :func:`exprclone.cli.main.main` adds nothing and exits with its status for Ctrl-C."""
+
+
 def value_type(cls: type, name: str) -> Callable[[str], Any]:
     """An argparse type: the option ``name`` of ``cls`` as a word of the command line gives it, read by its spec's
     ``parse`` and checked by its ``check`` (:class:`~exprclone.options.Spec`)."""

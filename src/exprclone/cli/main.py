@@ -19,6 +19,7 @@ from typing import Any, NoReturn, TextIO
 from .. import __version__
 from ..errors import ExprCloneError
 from . import batch, clone, compare, demo, evaluate, expressions, serve, study, video
+from .inputs import Interrupted
 
 EXIT_USAGE = 2
 #: exit status after Ctrl-C (128 + SIGINT), as shells report it.
@@ -97,6 +98,8 @@ def main(argv: list[str] | None = None) -> int:
     except ExprCloneError as e:
         print(f"exprclone: error: {e}", file=sys.stderr)
         return EXIT_USAGE
+    except Interrupted:
+        return EXIT_INTERRUPTED
     except KeyboardInterrupt:  # the output, written under a temporary name, is already gone
         print("\nexprclone: interrupted; no output written", file=sys.stderr)
         return EXIT_INTERRUPTED

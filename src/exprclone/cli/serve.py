@@ -13,6 +13,7 @@ from typing import Any
 
 from ..errors import ExprCloneError
 from ..server.settings import Settings
+from .inputs import Interrupted
 
 #: WebSocket messages a connection may have waiting (each at most an upload's size): the live session keeps only the newest frame.
 WS_QUEUE = 4
@@ -92,8 +93,9 @@ def connection_bounds(args: argparse.Namespace) -> dict[str, Any]:
 
 def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> None:
     """Serve ``app`` with uvicorn on ``args.host`` and ``args.port``, within the connection bounds; print ``said`` once it
-    answers (its start-up done: the workers ready, the port bound), and "stopped" when it stops: exit status 130 after
-    Ctrl-C, 0 after SIGTERM. ExprCloneError if it cannot start (the port in use: uvicorn logs the reason first)."""
+    answers (its start-up done: the workers ready, the port bound), and "stopped" when it stops (after Ctrl-C,
+    :class:`~exprclone.cli.inputs.Interrupted`). ExprCloneError if it cannot start (the port in use: uvicorn logs the
+    reason first)."""
     import uvicorn
 
     class Announced(uvicorn.Server):
@@ -106,14 +108,13 @@ def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> Non
     server = Announced(config)
     try:
         server.run()
-    except KeyboardInterrupt:  # (uvicorn raises Ctrl-C again once it has stopped): 128 + SIGINT, as a shell counts it
-        print("exprclone: stopped", flush=True)
-        raise SystemExit(130) from None
-    except SystemExit:
-        if server.started:
-            raise
+    except SystemExit:  # (uvicorn's, when its start-up fails)
         raise ExprCloneError("serve", f"could not start on {args.host}:{args.port} (uvicorn's reason above)") from None
-    print("exprclone: stopped", flush=True)  # (SIGTERM)
+    except KeyboardInterrupt:  # (uvicorn raises Ctrl-C again once it has stopped)
+        raise Interrupted from None
+    finally:
+        if server.started:
+            print("exprclone: stopped", flush=True)
 
 
 def run(args: argparse.Namespace) -> None:
