@@ -233,3 +233,23 @@ def test_bad_output_path_fails_before_any_frame(clip_frames, tmp_path):
         write_video(tmp_path / "out.mp4", frames(), 25, audio_from=tmp_path / "missing.mpg")
     assert not asked
     assert source.read_bytes() == before
+
+
+def test_an_mpeg_program_stream_is_read_within_a_servers_limits(tmp_path):
+    """MPEG-PS (.mpg, .vob) lists its streams only by probing them, and FFmpeg takes no decoder options per stream
+    for it: a server's upload of one was an internal error. It opens, and its frames' size is still checked."""
+    from exprclone.io.video import Limits
+
+    path = tmp_path / "clip.mpg"
+    with av.open(str(path), "w", format="mpeg") as container:
+        stream = container.add_stream("mpeg1video", rate=25)
+        stream.width, stream.height, stream.pix_fmt = 64, 48, "yuv420p"
+        for k in range(10):
+            frame = av.VideoFrame.from_ndarray(np.full((48, 64, 3), 20 * k, np.uint8), format="rgb24")
+            container.mux(stream.encode(frame))
+        container.mux(stream.encode(None))
+    info = probe(path, Limits(max_pixels=25_000_000, max_seconds=120))
+    assert (info.width, info.height) == (64, 48)
+    assert len(list(read_frames(path, limits=Limits(max_pixels=25_000_000, max_seconds=120)))) == 10
+    with pytest.raises(ExprCloneError, match="too large"):
+        probe(path, Limits(max_pixels=1000, max_seconds=120))

@@ -192,6 +192,38 @@ def test_an_address_starts_a_few_participants_an_hour(study_folder):
     assert 3500 <= int(r.headers["retry-after"]) <= 3601
 
 
+def test_parallel_requests_of_one_address_are_paced_as_one_after_another():
+    """The participants' route runs in FastAPI's thread pool: 32 threads counting at once for one address, switching
+    as often as Python can, admit exactly ``count`` (without the lock, up to 10 of 5 got through)."""
+    import sys
+    import threading
+
+    from exprclone.server.limits import Paced, TooMany
+
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)
+    try:
+        for _ in range(30):
+            paced, start, admitted = Paced(5, 3600), threading.Barrier(32), []
+
+            def ask(paced=paced, start=start, admitted=admitted):
+                start.wait()
+                try:
+                    paced.admit("10.0.0.1", 0.0)
+                    admitted.append(True)
+                except TooMany:
+                    pass
+
+            threads = [threading.Thread(target=ask) for _ in range(32)]
+            for t in threads:
+                t.start()
+            for t in threads:
+                t.join()
+            assert len(admitted) == 5
+    finally:
+        sys.setswitchinterval(interval)
+
+
 @pytest.mark.parametrize("path", ["/docs", "/redoc", "/openapi.json"])
 def test_the_study_serves_no_api_documentation(client, path):
     assert client.get(path).status_code == 404

@@ -87,7 +87,7 @@ def run(args: argparse.Namespace) -> None:
     from ..evaluation.expression import held_out
     from ..evaluation.expression import section as expression_section
     from ..evaluation.london import Dataset
-    from ..evaluation.report import tables, write_report
+    from ..evaluation.report import write_report
     from ..evaluation.runner import run as score
     from ..evaluation.runner import variants
     from ..expressions import load
@@ -106,15 +106,13 @@ def run(args: argparse.Namespace) -> None:
     held = held_out([load(name) for name in args.expression], data) if args.expression else []
     landmarker = str(options_of(args, Options, ("landmarker",)).landmarker)
     rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=bar, variants=chosen, landmarker=landmarker)
-    pair_rows = list(rows)
     sections: list[str] = []
     if held:
         jobs = max(1, args.jobs)
         found, sections = expression_section(Path(args.out), data, held, rows, landmarks, methods, chosen, jobs, bar, landmarker)
         rows += found
     command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"
-    write_report(Path(args.out), data, rows, landmarks, methods, command, chosen, tuple(sections))
-    print("\n".join(tables(rows, pair_rows)))
+    print(write_report(Path(args.out), data, rows, landmarks, methods, command, chosen, tuple(sections)))
     if sections:
         print(sections[2])
     print(f"report: {Path(args.out) / 'summary.md'}")

@@ -33,8 +33,12 @@ class Dataset:
     """The people of a folder in either layout (the module's notes): their ids, and each one's two photos."""
 
     root: Path
-    ids: tuple[str, ...]
     photos: dict[str, tuple[str, str]]
+
+    @property
+    def ids(self) -> tuple[str, ...]:
+        """The people, sorted."""
+        return tuple(sorted(self.photos))
 
     @classmethod
     def open(cls, root: str | os.PathLike[str]) -> Dataset:
@@ -55,7 +59,7 @@ class Dataset:
                 "needs two photos for at least two people: neutral/NAME.jpg and expression/NAME.jpg (one name a person),"
                 " or the London Set's neutral_front/ID_03.jpg and smiling_front/ID_08.jpg",
             )
-        return cls(root, tuple(sorted(photos)), photos)
+        return cls(root, photos)
 
     def path(self, face_id: str, smiling: bool) -> str:
         """The person's photo: their expression if ``smiling``, else their neutral face."""

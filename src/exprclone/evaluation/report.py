@@ -16,7 +16,7 @@ from ..landmarks.layout import DLIB68
 from ..mouth.measure import mouth_width
 from .figures import face_box
 from .london import Dataset
-from .runner import FIELDS, PAPER, Row, Variant, clone_pair, photo
+from .runner import FIELDS, PAPER, REFERENCES, Row, Variant, clone_pair, photo
 from .scores import GREY_WARMTH, TEETH_SHOWN, shadows
 from .statistics import STRONG_SMILE, contrasts, summarise
 
@@ -79,7 +79,7 @@ def alike(rows: list[Row]) -> list[str]:
     """
     scores: dict[str, dict[tuple[str, str], tuple[object, ...]]] = {}
     for r in rows:
-        if not r["failed"] and r["method"] not in ("no change", "real"):
+        if not r["failed"] and r["method"] not in REFERENCES:
             scores.setdefault(r["method"], {})[r["source"], r["target"]] = tuple(r[k] for k in TOLD_BY)
     said, methods = [], list(scores)
     for k, method in enumerate(methods):
@@ -124,9 +124,10 @@ def tables(rows: list[Row], pair_rows: list[Row]) -> list[str]:
         text += [strong, "", table(summarise(rows, strong_only=True)), ""]
     else:
         text += [strong, "", f"No target's real expression widens the mouth by {STRONG_SMILE:.0%}: no table.", ""]
-    if contrasts(pair_rows):
+    compared = contrasts(pair_rows)
+    if compared:
         text += ["## Pair by pair: the elastic model on its GI in each variant, and each variant against the default", ""]
-        text += ["All pairs, then the strong smiles." if n_strong else "All pairs.", "", contrast_table(contrasts(pair_rows)), ""]
+        text += ["All pairs, then the strong smiles." if n_strong else "All pairs.", "", contrast_table(compared), ""]
         text += [contrast_table(contrasts(pair_rows, strong_only=True)), ""] if n_strong else []
     return text
 
@@ -164,16 +165,17 @@ def write_report(
     sections: tuple[str, ...] = (),
 ) -> str:
     """``pairs.csv``, ``summary.md`` (with the variants against the default setting, :func:`contrasts`, if there are
-    any, then the paragraphs of ``sections``) and the gallery (:func:`_gallery`) of e+md pairs in the first variant."""
+    any, then the paragraphs of ``sections``) and the gallery (:func:`_gallery`) of e+md pairs in the first variant;
+    returns its tables (:func:`tables`), for the terminal."""
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "pairs.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, FIELDS)
         writer.writeheader()
         writer.writerows(rows)
-    pair_rows = [r for r in rows if r["source"] in data.ids]  # not a built-in expression's (sections)
+    pair_rows = [r for r in rows if r["source"] in data.photos]  # not a built-in expression's (sections)
     n_pairs = len({(r["source"], r["target"]) for r in pair_rows})
-    text = _introduction(command, data, n_pairs)
-    text += tables(rows, pair_rows)
+    shown = tables(rows, pair_rows)
+    text = _introduction(command, data, n_pairs) + shown
     text += [line for section in sections for line in (section, "")]
     gallery = _gallery(out, data, rows, landmarks, "e+md" if "e+md" in methods else methods[-1], variants[0])
     if gallery:
@@ -199,7 +201,7 @@ def write_report(
             "",
         ]
     (out / "summary.md").write_text("\n".join(text))
-    return "\n".join(text)
+    return "\n".join(shown)
 
 
 def _warmth_sheet(

@@ -426,7 +426,10 @@ def _open_input(path: PathLike, limits: Limits | None = None) -> av.container.In
     # each stream's decoder options (PyAV's stubs say strings: typed Any here)
     bounded: dict[str, Any] = {} if limits is None or limits.max_pixels is None else {"stream_options": [limits.decoder()] * PROBED_STREAMS}
     try:
-        container = av.open(os.fspath(path), **bounded)
+        try:
+            container = av.open(os.fspath(path), **bounded)
+        except ValueError:  # a format that lists its streams only by probing them (MPEG-PS) takes no options per stream:
+            container = av.open(os.fspath(path))  # its frames' size is checked from the probed headers, below
     except FileNotFoundError as exc:
         raise ExprCloneError(path, "no such file") from exc
     except PermissionError as exc:

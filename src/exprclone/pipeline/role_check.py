@@ -51,6 +51,7 @@ from ..geometry.eigenface import crop, normalise
 from ..landmarks import align
 from ..landmarks.dlib import model_path
 from ..landmarks.layout import Layout
+from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 
 #: rows of the 64-pixel eye-aligned crop compared for appearance: from the brows to the upper lip.
 IDENTITY_ROWS = slice(8, 44)
@@ -72,12 +73,13 @@ def _learnt() -> dict[str, Any]:
         return dict(json.loads(path.read_text()))
 
 
+_LEARNT = _learnt()
 #: the mean neutral face of the London Set's 72 people (dlib's 68 points, outer eye corners at (0, 0) and (1, 0)),
 #: written by ``tools/role_check.py --write-template``.
-NEUTRAL_FACE = np.array(_learnt()["landmarks"], float)
+NEUTRAL_FACE = np.array(_LEARNT["landmarks"], float)
 #: the direction in which a smile moves the moving landmarks (:func:`moving`) of a face aligned on
 #: :data:`NEUTRAL_FACE`, written with it: a smile's :func:`smile` exceeds its neutral face's.
-SMILE = np.array(_learnt()["smile"], float)
+SMILE = np.array(_LEARNT["smile"], float)
 
 
 @dataclass(frozen=True)
@@ -185,17 +187,13 @@ def judge_roles(neutral: Photo, expression: Photo, layout: Layout, target: Photo
         "the neutral face looks more expressive" when the two look swapped (:func:`swapped`).
     """
     if not one_person(neutral, expression, layout):
-        if target is not None and one_person(target, expression, layout):
-            return [
-                "source_neutral: looks like another person than source_expression, and target_neutral like the same person"
-                " as source_expression; are source_neutral and target_neutral swapped?"
-            ]
-        if target is not None and one_person(target, neutral, layout):
-            return [
-                "source_expression: looks like another person than source_neutral, and target_neutral like the same person"
-                " as source_neutral; are source_expression and target_neutral swapped?"
-            ]
-        return ["source_expression: looks like another person than source_neutral; the source's two photos should show one person"]
+        for odd, kept, photo in ((SOURCE_NEUTRAL, SOURCE_EXPRESSION, expression), (SOURCE_EXPRESSION, SOURCE_NEUTRAL, neutral)):
+            if target is not None and one_person(target, photo, layout):  # the target's photo shows the one kept
+                return [
+                    f"{odd}: looks like another person than {kept}, and {TARGET_NEUTRAL} like the same person as {kept};"
+                    f" are {odd} and {TARGET_NEUTRAL} swapped?"
+                ]
+        return [f"{SOURCE_EXPRESSION}: looks like another person than {SOURCE_NEUTRAL}; the source's two photos should show one person"]
     if swapped(neutral.points, expression.points, layout):
-        return ["source_neutral: looks more expressive than source_expression; are the source's two photos swapped?"]
+        return [f"{SOURCE_NEUTRAL}: looks more expressive than {SOURCE_EXPRESSION}; are the source's two photos swapped?"]
     return []

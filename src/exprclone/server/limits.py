@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import threading
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
@@ -22,15 +23,21 @@ class Paced:
     """At most ``count`` of a kind of request per client address in ``seconds``; the next is refused, answered 429 with
     ``Retry-After`` (:class:`TooMany`). At most ``clients`` addresses are remembered (the oldest forgotten first).
 
-    Used from the event loop only, so plain containers are safe.
+    Routes that count run in FastAPI's thread pool: one lock makes each count whole (parallel requests of one client
+    are counted one after another, not all against the same past).
     """
 
     def __init__(self, count: int, seconds: float, clients: int = 10_000) -> None:
         self.count, self.seconds, self.clients = count, seconds, clients
         self.seen: dict[str, list[float]] = {}
+        self.lock = threading.Lock()
 
     def admit(self, client: str, now: float) -> None:
         """Count a request of ``client`` at ``now`` (seconds), or :class:`TooMany` if it has had ``count`` already."""
+        with self.lock:
+            self._admit(client, now)
+
+    def _admit(self, client: str, now: float) -> None:
         times = [t for t in self.seen.pop(client, []) if t > now - self.seconds]
         if len(times) >= self.count:
             self.seen[client] = times
