@@ -45,20 +45,37 @@ def modules() -> dict[str, Path]:
     return found
 
 
-def imports(name: str, path: Path, known: dict[str, Path]) -> set[str]:
-    """The package's modules that module ``name`` imports (a name imported from a package is a tie to it, not to the
-    package: ``from . import eri`` ties to ``eri``); the package's face is no tie (it only hands names on)."""
+def imported(name: str, path: Path) -> list[tuple[str, str | None]]:
+    """What module ``name`` imports (``TYPE_CHECKING`` imports too): ``(module, name)`` for each name taken from a
+    module (``from . import eri``: ``(package, "eri")``), ``(module, None)`` for ``import module``."""
     parts = name.split(".") + (["__init__"] if path.name == "__init__.py" else [])
-    found = set()
+    found: list[tuple[str, str | None]] = []
     for node in ast.walk(ast.parse(path.read_text())):
         if isinstance(node, ast.ImportFrom):
             target = (
                 ".".join(parts[: len(parts) - node.level] + ([node.module] if node.module else [])) if node.level else node.module or ""
             )
-            subs = {f"{target}.{a.name}" for a in node.names if f"{target}.{a.name}" in known}
-            found |= subs | ({target} if len(subs) < len(node.names) else set())
+            found += [(target, a.name) for a in node.names]
         elif isinstance(node, ast.Import):
-            found |= {a.name for a in node.names}
+            found += [(a.name, None) for a in node.names]
+    return found
+
+
+#: where the package's face takes each of its names from (its ``TYPE_CHECKING`` imports are the lazy ones; a submodule
+#: it imports to hand a lazy name on is not one of its names).
+FACE = {t: m for m, t in imported("exprclone", PACKAGE / "__init__.py") if t and f"{m}.{t}" not in modules()}
+
+
+def imports(name: str, path: Path, known: dict[str, Path]) -> set[str]:
+    """The package's modules that module ``name`` imports: a name imported from a package is a tie to its submodule of
+    that name if there is one (``from . import eri`` ties to ``eri``), else to the package; a name imported from the
+    package's face is a tie to the module the face takes it from (:data:`FACE`)."""
+    found = set()
+    for module, taken in imported(name, path):
+        if taken is not None and f"{module}.{taken}" in known:
+            found.add(f"{module}.{taken}")
+        else:
+            found.add(FACE.get(taken or "", module) if module == "exprclone" else module)
     return {t for t in found if t in known and t not in (name, "exprclone")}
 
 
@@ -106,6 +123,15 @@ def rank(module: str) -> int:
 
 def test_no_import_circle():
     assert circles(graph()) == []
+
+
+def test_a_name_taken_from_the_packages_face_is_a_tie_to_its_module(tmp_path):
+    """``from .. import Options`` in a room ties it to :mod:`exprclone.options` (the face only hands the name on): a
+    circle through the face is a circle."""
+    probe = tmp_path / "probe.py"
+    probe.write_text("from .. import Options, data\nfrom ..methods import lookup\nimport exprclone\n")
+    assert imports("exprclone.landmarks.probe", probe, modules()) == {"exprclone.options", "exprclone.data", "exprclone.methods"}
+    assert FACE["clone"] == "exprclone.pipeline.clone" and FACE["Options"] == "exprclone.options"
 
 
 def test_the_circle_finder_finds_one():

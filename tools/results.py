@@ -137,31 +137,13 @@ def _rows(path: Path) -> list[dict]:
     return rows
 
 
-def _share(share: float, of: int) -> str:
-    return f"{100 * share:.0f}% of {of}" if of else "-"
-
-
 def _summary_table(summary: list[dict]) -> list[str]:
+    from exprclone.evaluation.report import cells
+
     header = ["method", "pairs", "failed", "landmark error, mean / median", "mouth, mean / median", "mouth minus global, paired"]
     header += ["eyes and brows, mean / median", "identity, mean / median", "same person", "teeth: source shows", "teeth: source shows none"]
     header += ["judged smiling", "shadow warmth, median [95% interval]", "grey shadows"]
-    rows = []
-    for s in summary:
-        pair = lambda key: "-" if s[key + "_mean"] != s[key + "_mean"] else f"{s[key + '_mean']:.4f} / {s[key + '_median']:.4f}"  # noqa: E731
-        warmth = "-" if not s["warmth_n"] else f"{s['warmth']:.3f} [{s['warmth_low']:.3f}, {s['warmth_high']:.3f}]"
-        rows.append(
-            [f"``{s['method']}``", str(s["pairs"]), str(s["failed"]), pair("overall"), pair("mouth")]
-            + [f"{s['mouth_vs_baseline']:+.4f} ± {s['mouth_vs_baseline_se']:.4f}", pair("eyes_brows"), pair("identity")]
-            + [
-                f"{100 * s['same_person']:.0f}%",
-                _share(s["teeth_kept"], s["teeth_sources"]),
-                _share(s["teeth_invented"], s["closed_sources"]),
-                "-" if s["smiling"] != s["smiling"] else f"{100 * s['smiling']:.0f}%",
-                warmth,
-                _share(s["grey"], s["warmth_n"]),
-            ]
-        )
-    return _list_table(header, rows)
+    return _list_table(header, [[f"``{s['method']}``", *cells(s)] for s in summary])
 
 
 def _contrast_table(lines: list[dict]) -> list[str]:

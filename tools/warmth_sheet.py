@@ -11,7 +11,6 @@ face, the clone before, the clone after, each warmth from the two reports in the
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import os
 import subprocess
@@ -19,8 +18,12 @@ import sys
 import tempfile
 from pathlib import Path
 
+from compare_reports import rows  # (which puts this tree's src/ on the path)
+
+from exprclone.methods import TABLE
+
 ROOT = Path(__file__).resolve().parents[1]
-ERI_METHODS = ("global+eri", "local+eri", "elastic+eri", "e+md")
+ERI_METHODS = {m.name for m in TABLE if m.eri}
 #: the sheet's JPEG quality.
 JPEG_QUALITY = 80
 
@@ -59,11 +62,7 @@ def main() -> int:
     if args.render:
         render(args.data, [tuple(w) for w in json.loads(Path(args.render).read_text())], Path(args.output))
         return 0
-    reports = []
-    for path in (args.before, args.after):
-        with open(path, newline="") as f:
-            reports.append({(r["source"], r["target"], r["method"]): r for r in csv.DictReader(f) if not r["failed"]})
-    before, after = reports
+    before, after = rows(args.before), rows(args.after)
     measured = [k for k, r in before.items() if k[2] in ERI_METHODS and r.get("warmth") and after.get(k, {}).get("warmth")]
     worst = sorted(measured, key=lambda k: float(before[k]["warmth"]))[: args.count]
     with tempfile.TemporaryDirectory() as tmp:

@@ -44,8 +44,8 @@ again with other values of them (:meth:`exprclone.pipeline.cloner.Prepared.rende
 
 >>> Options().global_stage, Options(global_warp="rbf").global_stage
 ('similarity', 'rbf')
->>> Options().full, Options(strength=0.5).full, Options(only="mouth").only
-(True, False, ('mouth',))
+>>> Options(only="mouth").only
+('mouth',)
 >>> Options.from_text({"method": "global", "lambda": "0.5"}).lambda_k
 0.5
 >>> Options(strength=3)
@@ -298,8 +298,8 @@ class Options(Chosen):
     --------
     >>> Options(strength=0.5, only=("mouth",)).only
     ('mouth',)
-    >>> Options(method="e+md", global_warp="rbf").global_stage, Options(strength=0.5).full
-    ('rbf', False)
+    >>> Options(method="e+md", global_warp="rbf").global_stage
+    'rbf'
     >>> Options(method="x")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
@@ -421,11 +421,6 @@ class Options(Chosen):
     def global_stage(self) -> str:
         """The global warp that gives GI: :data:`GIVEN` when its landmarks are given, else ``global_warp``."""
         return GIVEN if self.global_landmarks is not None else self.global_warp
-
-    @property
-    def full(self) -> bool:
-        """Whether the whole expression is transferred everywhere (strength 1, every region), as in the paper."""
-        return self.strength == 1 and self.only is None
 
     @property
     def landmarks_layout(self) -> Layout:

@@ -31,7 +31,7 @@ from typing import Any
 import cv2
 import numpy as np
 
-from ..errors import ExprCloneError, NoFaceError, quoted
+from ..errors import ExprCloneError, NoFaceError
 from ..geometry import global_warp
 from ..landmarks import align
 from ..landmarks.backends import resolve
@@ -209,7 +209,8 @@ class Driver:
 def choose_lambda(cloner: Cloner, frames: Sequence[np.ndarray], points: Sequence[np.ndarray]) -> float:
     """One lambda_k for a performance: the median of the DB metric's choices (Eq. 8) on ``frames``."""
     elastic = cloner.changed(lambda_k="auto")
-    return float(np.median([elastic.clone_methods(f, p, ("elastic",))["elastic"].lambda_k for f, p in zip(frames, points)]))
+    chosen = [elastic.prepare(f, p, ("elastic",)).shapes["elastic"].lambda_k for f, p in zip(frames, points)]  # (nothing rendered)
+    return float(np.median(np.array(chosen, float)))
 
 
 def neutral_index(track: tracking.Track, points: np.ndarray, neutral_frame: int | str, layout: Layout, name: str) -> int:
@@ -219,10 +220,8 @@ def neutral_index(track: tracking.Track, points: np.ndarray, neutral_frame: int 
         index = int(np.argmax(track.found))
     elif neutral_frame == "closed":
         index = closed_mouth_frame(points, track.found, layout)
-    elif isinstance(neutral_frame, int):
-        index = neutral_frame
-    else:
-        raise ExprCloneError(name, f"the neutral frame must be a frame number or 'closed', got {quoted(neutral_frame)}")
+    else:  # a frame number (Driving has checked it)
+        index = int(neutral_frame)
     if not 0 <= index < len(points):
         raise ExprCloneError(name, f"no frame {index} (it has {len(points)} frames, numbered from 0)")
     if not track.found[index]:

@@ -40,21 +40,27 @@ def table(summary: list[Row]) -> str:
         f"grey shadows (< {GREY_WARMTH})",
     ]
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
-    for s in summary:
-        # "-" where global was not run
-        paired = "-" if np.isnan(s["mouth_vs_baseline"]) else f"{s['mouth_vs_baseline']:+.4f} ± {s['mouth_vs_baseline_se']:.4f}"
-        values = [s["method"], s["pairs"], s["failed"], _cell(s, "overall"), _cell(s, "mouth"), paired, _cell(s, "eyes_brows")]
-        values.append(_cell(s, "identity"))
-        values += [
-            f"{100 * s['same_person']:.0f}%",
-            _share(s["teeth_kept"], s["teeth_sources"]),
-            _share(s["teeth_invented"], s["closed_sources"]),
-            "-" if np.isnan(s["smiling"]) else f"{100 * s['smiling']:.0f}%",
-            "-" if np.isnan(s["warmth"]) else f"{s['warmth']:.3f} [{s['warmth_low']:.3f}, {s['warmth_high']:.3f}]",
-            _share(s["grey"], s["warmth_n"]),
-        ]
-        lines.append("| " + " | ".join(map(str, values)) + " |")
+    lines += ["| " + " | ".join([s["method"], *cells(s)]) + " |" for s in summary]
     return "\n".join(lines)
+
+
+def cells(s: Row) -> list[str]:
+    """A line of :func:`summarise`'s output as the tables show it, after the method's name ("-" where nothing was
+    measured, or where global, the paired mouth error's baseline, was not run)."""
+    paired = "-" if np.isnan(s["mouth_vs_baseline"]) else f"{s['mouth_vs_baseline']:+.4f} ± {s['mouth_vs_baseline_se']:.4f}"
+    return [
+        str(s["pairs"]),
+        str(s["failed"]),
+        *(_cell(s, score) for score in ("overall", "mouth")),
+        paired,
+        *(_cell(s, score) for score in ("eyes_brows", "identity")),
+        f"{100 * s['same_person']:.0f}%",
+        _share(s["teeth_kept"], s["teeth_sources"]),
+        _share(s["teeth_invented"], s["closed_sources"]),
+        "-" if np.isnan(s["smiling"]) else f"{100 * s['smiling']:.0f}%",
+        "-" if np.isnan(s["warmth"]) else f"{s['warmth']:.3f} [{s['warmth_low']:.3f}, {s['warmth_high']:.3f}]",
+        _share(s["grey"], s["warmth_n"]),
+    ]
 
 
 def _cell(line: Row, score: str) -> str:
@@ -227,7 +233,7 @@ def _warmth_sheet(
         method, (a, b) = r["method"][: len(r["method"]) - len(label)], (r["source"], r["target"])
         result = clone_pair(data, (a, b), (method,), landmarks, options)[method]
         neutral, found = photo(data.path(b, False)), landmarks[data.path(b, False)]
-        darker, _ = shadows(result.image, result.landmarks["final"], neutral, found, DLIB68)
+        darker = shadows(result.image, result.landmarks["final"], neutral, found, DLIB68)[0]
         outlined = result.image.copy()
         contours, _ = cv2.findContours(darker.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
         cv2.drawContours(outlined, contours, -1, (0, 255, 255), 3)

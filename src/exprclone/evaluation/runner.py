@@ -52,8 +52,7 @@ from ..landmarks.backends import DEFAULT, shared
 from ..landmarks.layout import DLIB68
 from ..mouth.measure import mouth_width
 from ..options import GLOBAL_WARPS, IMAGE_WARPS, Options
-from ..pipeline.clone import clone_methods
-from ..pipeline.cloner import CloneResult
+from ..pipeline.cloner import Cloner, CloneResult
 from ..pipeline.role_check import descriptor, identity_distance
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .judge import trained_without
@@ -148,13 +147,15 @@ def variants(
 def clone_pair(
     data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict[str, np.ndarray], options: Options | None = None
 ) -> dict[str, CloneResult]:
-    """A's smile cloned onto B by ``methods`` (with the clone ``options``), with the landmarks already found."""
+    """A's smile cloned onto B by ``methods`` (with the clone ``options``), with the landmarks already found: the
+    :class:`~exprclone.pipeline.cloner.Cloner` that :func:`exprclone.clone_methods` runs, without its role check (the
+    data's roles are known; its descriptors would cost as much as a clone)."""
     sn, se, tn = data.path(pair[0], False), data.path(pair[0], True), data.path(pair[1], False)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         with naming({SOURCE_NEUTRAL: sn, SOURCE_EXPRESSION: se, TARGET_NEUTRAL: tn}):
-            images, found = (photo(sn), photo(se), photo(tn)), (landmarks[sn], landmarks[se], landmarks[tn])
-            return clone_methods(*images, methods, landmarks=found, options=options)
+            cloner = Cloner(photo(sn), landmarks[sn], photo(tn), landmarks[tn], options)
+            return cloner.clone_methods(photo(se), landmarks[se], methods)
 
 
 def _candidates(

@@ -146,26 +146,27 @@ def warmth(result: np.ndarray, landmarks: np.ndarray, neutral: np.ndarray, neutr
     -------
     float
     """
-    darker, warmer = shadows(result, landmarks, neutral, neutral_landmarks, layout)
-    if darker.sum() < WARMTH_SHARE * skin_of(result.shape, landmarks, layout).sum() or not darker.any():
+    darker, warmer, skin = shadows(result, landmarks, neutral, neutral_landmarks, layout)
+    if darker.sum() < WARMTH_SHARE * skin.sum() or not darker.any():
         return float("nan")
     return float(np.median(warmer[darker]))
 
 
 def shadows(
     result: np.ndarray, landmarks: np.ndarray, neutral: np.ndarray, neutral_landmarks: np.ndarray, layout: Layout
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Where :func:`warmth` measures, and what: the skin that darkens by more than :data:`DARKER` L* (``(H, W)`` bool),
-    and ``(C*_result / C*_neutral) / (L*_result / L*_neutral)`` at every pixel (``(H, W)``)."""
+    ``(C*_result / C*_neutral) / (L*_result / L*_neutral)`` at every pixel (``(H, W)``), and the skin (:func:`skin_of`)."""
     mesh = piecewise.build_mesh(neutral_landmarks, neutral.shape, layout)
     control = mesh.control_points(landmarks, align.fit_rigid(neutral_landmarks, landmarks, layout))
     warped = piecewise.warp(neutral, mesh.points, control, mesh.triangles, result.shape[:2])
     sigma = max(WARMTH_BLUR * align.interocular(landmarks, layout), 0.5)
     lab = [cv2.cvtColor(cv2.GaussianBlur(image.astype(np.float32) / 255, (0, 0), sigma), cv2.COLOR_RGB2Lab) for image in (result, warped)]
     (l_r, chroma_r), (l_n, chroma_n) = ((x[..., 0], np.hypot(x[..., 1], x[..., 2])) for x in lab)
-    darker = skin_of(result.shape, landmarks, layout) & (l_r < l_n - DARKER) & (chroma_n > 1.0)
+    skin = skin_of(result.shape, landmarks, layout)
+    darker = skin & (l_r < l_n - DARKER) & (chroma_n > 1.0)
     warmer = (chroma_r / np.maximum(chroma_n, 1e-6)) / (np.maximum(l_r, 1e-6) / np.maximum(l_n, 1e-6))
-    return darker, warmer
+    return darker, warmer, skin
 
 
 def material_swaps(result: CloneResult, source_neutral: np.ndarray, source_expression: np.ndarray, layout: Layout) -> np.ndarray:

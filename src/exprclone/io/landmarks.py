@@ -21,7 +21,6 @@ TEM_POINTS = 189
 MAX_CHARS = 1_000_000
 #: the deepest nesting of brackets a JSON landmark file may have (``{"landmarks": [[x, y], ...]}`` has 3).
 MAX_DEPTH = 8
-#: a JSON string (skipped when the nesting is measured).
 
 
 def read_tem(path: str | os.PathLike[str]) -> np.ndarray:

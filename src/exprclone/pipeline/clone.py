@@ -18,6 +18,7 @@ is first made the target's (:mod:`exprclone.geometry.retarget`, not in the paper
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from typing import Any
 
@@ -103,7 +104,7 @@ def prepare(
         warnings.warn(message, ExprCloneWarning, stacklevel=3)
     prepared = cloner.prepare(images[1], s_exp, methods, crop=expression.crop)
     placed = name_of(asked.landmarker) if any(p is None for p in given) else None
-    return Prepared(prepared.cloner, prepared.methods, prepared.expression, prepared.shapes, prepared.photo, placed, said)
+    return dataclasses.replace(prepared, landmarker=placed, warnings=said)
 
 
 def clone(

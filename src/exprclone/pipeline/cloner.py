@@ -26,7 +26,7 @@ from ..errors import ExprCloneError
 from ..geometry import db_metric
 from ..geometry.weights import Transfer
 from ..imaging import piecewise
-from ..imaging.warpers import IMAGE_WARPERS
+from ..imaging.warpers import IMAGE_WARPERS, ImageWarper
 from ..landmarks import lips
 from ..methods import Method, lookup
 from ..mouth import paste
@@ -162,8 +162,12 @@ class Cloner:
         self.options = check_for_target(Options.of(options, keywords), target_neutral.shape)
         layout = self.options.landmarks_layout
         self.faces = Faces(source_neutral, source_neutral_points, target_neutral, target_neutral_points, layout)
-        self.image_warp = IMAGE_WARPERS[self.options.image_warp]
-        self.transfer = Transfer.build(self.options.strength, self.options.only, self.faces.t_neu, target_neutral.shape, layout)
+        self.transfer = self._transfer(self.options)
+
+    @property
+    def image_warp(self) -> ImageWarper:
+        """How the target's photo follows its landmarks: the options' ``image_warp``."""
+        return IMAGE_WARPERS[self.options.image_warp]
 
     def changed(self, options: Options | None = None, **changes: Any) -> Cloner:
         """The same prepared faces with other ``options``, or its own changed by keywords (``changed(lambda_k=0.5)``):
@@ -178,7 +182,7 @@ class Cloner:
         if options.landmarks_layout is not self.faces.layout:
             raise ExprCloneError("layout", "the faces were prepared with another layout: make a new Cloner")
         other = copy.copy(self)
-        other.options, other.image_warp, other.transfer = options, IMAGE_WARPERS[options.image_warp], self.weights(options)
+        other.options, other.transfer = options, self.weights(options)
         return other
 
     def weights(self, options: Options) -> Transfer:
@@ -186,6 +190,9 @@ class Cloner:
         the cloner's own when their strength and regions are its options'."""
         if (options.strength, options.only) == (self.options.strength, self.options.only):
             return self.transfer
+        return self._transfer(options)
+
+    def _transfer(self, options: Options) -> Transfer:
         return Transfer.build(options.strength, options.only, self.faces.t_neu, self.faces.target_image.shape, self.faces.layout)
 
     def prepare(

@@ -70,15 +70,6 @@ class Shape:
     db_curve: db_metric.DBCurve | None = None
 
 
-@dataclass(frozen=True)
-class Rendered:
-    """The target photo warped to one shape (FI): the image, the control points it was warped to, and how many were unfolded."""
-
-    image: np.ndarray
-    control: np.ndarray
-    unfolded: int
-
-
 def similarity_warp(faces: Faces, expression: Expression) -> np.ndarray:
     """GI of the paper: the source's motion, similarity-aligned, on the target (:func:`exprclone.geometry.global_warp.global_landmarks`)."""
     return global_warp.global_landmarks(faces.s_neu, expression.moving, faces.t_neu, faces.layout)
