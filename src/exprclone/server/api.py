@@ -283,9 +283,9 @@ async def video(
             await asyncio.to_thread(shutil.copyfileobj, driving_video.file, out)
         limits = Limits(server.settings.max_pixels, server.settings.max_video_seconds)  # its frames bounded as photos are
         # a file that is not a video, or is over the limits, fails now, not in the job; probed in a worker
-        await server.run(work.probe_video, str(job.video), limits)
+        fps = await server.run(work.probe_video, str(job.video), limits)
         files = (str(job.video), str(job.result), str(job.progress_file))
-        task = work.VideoRequest(photo, *files, options, driving.options, framing.options, limits)
+        task = work.VideoRequest(photo, *files, options, driving.options, framing.options, limits, fps)
         server.jobs.start(job, server.video_pool.submit(work.video, task))
     except BaseException:
         server.jobs.discard(job)

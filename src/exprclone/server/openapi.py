@@ -15,6 +15,7 @@ image (which ReDoc then hides), and the pages' policy refuses any other host any
 
 from __future__ import annotations
 
+import functools
 import re
 from importlib import resources
 from pathlib import Path
@@ -126,11 +127,13 @@ def document(app: FastAPI) -> None:
             )
         )
 
-    redoc_script = (assets / "redoc.standalone.js").read_text(encoding="utf-8").replace(REDOC_LOGO, "data:,")
+    @functools.cache
+    def redoc_script() -> bytes:  # read when first asked for (1 MB), once
+        return (assets / "redoc.standalone.js").read_bytes().replace(REDOC_LOGO.encode(), b"data:,")
 
     @app.get(REDOC_SCRIPT, include_in_schema=False)
     async def redoc_js() -> Response:
-        return Response(redoc_script, media_type="text/javascript")
+        return Response(redoc_script(), media_type="text/javascript", headers={"Cache-Control": "public, max-age=86400"})
 
     @app.get("/redoc", include_in_schema=False)
     async def redoc() -> HTMLResponse:

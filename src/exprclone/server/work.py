@@ -16,6 +16,7 @@ import warnings
 from collections import OrderedDict
 from collections.abc import Iterator
 from dataclasses import dataclass, replace
+from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -81,6 +82,7 @@ class VideoRequest:
     driving: Driving
     framing: Framing
     limits: Limits
+    fps: Fraction  # its frame rate (:func:`probe_video`)
 
 
 def load_models() -> None:
@@ -193,14 +195,13 @@ def compare(request: CloneRequest, extension: str = ".png") -> bytes:
     return encode_image(draw(request.figure, results, images), extension)
 
 
-def probe_video(path: str, limits: Limits) -> dict[str, Any]:
+def probe_video(path: str, limits: Limits) -> Fraction:
     """A driving video checked before its job starts, in a worker (inside the server's bounds on work): a video, its
-    frames within ``limits`` as its headers give them (:func:`exprclone.io.video.probe`); its size and frame rate."""
+    frames within ``limits`` as its headers give them (:func:`exprclone.io.video.probe`); its frame rate."""
     from ..io.video import probe
 
     with naming({path: "driving_video"}):
-        info = probe(path, limits)
-    return {"width": info.width, "height": info.height, "fps": float(info.fps), "frames": info.frames}
+        return probe(path, limits).fps
 
 
 def video(request: VideoRequest) -> dict[str, Any]:
@@ -217,10 +218,11 @@ def video(request: VideoRequest) -> dict[str, Any]:
 
     with naming({request.video: "driving_video", request.output: "result"}):
         portrait, _ = resize_portrait(_image(request.portrait, request.limits.max_pixels), None, request.framing.size)
-        fps = video_io.probe(request.video, request.limits).fps
-        recording = drive.prepare(portrait, None, lambda: opened(request), float(fps), options=request.options, driving=request.driving)
+        recording = drive.prepare(
+            portrait, None, lambda: opened(request), float(request.fps), options=request.options, driving=request.driving
+        )
         frames = _reporting(recording, opened(request), request)
-        written = video_io.write_video(request.output, frames, fps, audio_from=request.video)
+        written = video_io.write_video(request.output, frames, request.fps, audio_from=request.video)
     return {
         "frames": written,
         "lambda_k": json_number(recording.driver.lambda_k),
