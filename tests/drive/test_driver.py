@@ -193,24 +193,32 @@ def test_a_run_failing_half_way_leaves_no_file(portrait, grid_clip, tmp_path, mo
 
 
 def test_an_interrupted_run_says_so_and_leaves_no_file(grid_clip, tmp_path):
-    """Ctrl-C half way: one line, exit 130, nothing at the output path."""
-    import signal
-    import time
+    """Ctrl-C half way: one line, exit 130, nothing at the output path.
 
-    out = tmp_path / "out.mp4"
+    The clip is played four times over (300 frames, several seconds of rendering) and Ctrl-C comes once the first progress
+    line shows frames being written, so that it falls inside the run even on a fast machine (on the 75-frame clip a
+    fast machine could finish before the test's signal arrived)."""
+    import signal
+
+    from exprclone.io.video import write_video
+
+    frames = list(read_frames(grid_clip))
+    long_clip = tmp_path / "long.mp4"
+    write_video(long_clip, frames * 4, probe(grid_clip).fps)
+    out_dir = tmp_path / "out"
+    out_dir.mkdir()
     p = subprocess.Popen(
-        [sys.executable, "-m", "exprclone", "video", str(PORTRAIT), str(grid_clip), "-o", str(out), "--size", "256"],
+        [sys.executable, "-m", "exprclone", "video", str(PORTRAIT), str(long_clip), "-o", str(out_dir / "out.mp4"), "--size", "256"],
         stderr=subprocess.PIPE,
         text=True,
         preexec_fn=interruptible,
     )
-    deadline = time.time() + 60
-    while not any(tmp_path.iterdir()) and time.time() < deadline and p.poll() is None:
-        time.sleep(0.05)  # wait until the temporary output exists: encoding has begun
+    first = p.stderr.readline()  # the progress bar's first line: frames are being rendered and encoded
+    assert "/300 frames" in first, first
     p.send_signal(signal.SIGINT)
     _, err = p.communicate(timeout=60)
-    assert p.returncode == 130 and err.strip().endswith("exprclone: interrupted; no output written"), err
-    assert os.listdir(tmp_path) == []
+    assert p.returncode == 130 and err.strip().endswith("exprclone: interrupted; no output written"), first + err
+    assert os.listdir(out_dir) == []
 
 
 def test_a_recording_is_read_once_to_track_and_once_to_fetch(portrait, grid_clip):
