@@ -27,6 +27,10 @@ CHOICES = {
     "image_warp": ("tps", "tps"),
     "strength": (1.5, "1.5"),
     "only": (("mouth", "eyes"), "mouth,eyes"),
+    "strength_mouth": (1.3, "1.3"),
+    "strength_eyes": (0.0, "0"),
+    "strength_brows": (2.0, "2"),
+    "strength_shading": (0.5, "0.5"),
     "retarget": (False, "false"),
     "neutral_frame": (12, "12"),
     "lambda_per_frame": (True, "true"),
@@ -36,6 +40,8 @@ CHOICES = {
     "side_by_side": (True, "true"),
 }
 CLASSES = (Options, Driving, Framing)
+#: the regions' own strengths, which ``only`` cannot be given with (it sets those it leaves out to 0).
+REGION_STRENGTHS = ("strength_mouth", "strength_eyes", "strength_brows")
 
 
 def same(a, b) -> bool:
@@ -55,30 +61,33 @@ def words(cls, chosen) -> list[str]:
     return out
 
 
+@pytest.mark.parametrize("regions", ["only", "strengths"])
 @pytest.mark.parametrize("cls", CLASSES, ids=lambda c: c.__name__)
-def test_every_surface_gives_the_same_value(cls):
+def test_every_surface_gives_the_same_value(cls, regions):
+    left_out = REGION_STRENGTHS if regions == "only" else ("only",)
+    choices = {n: c for n, c in CHOICES.items() if n not in left_out}
     parser = argparse.ArgumentParser()
     add_options(parser, cls)
-    cli = offered(cls, "cli")
+    cli = [n for n in offered(cls, "cli") if n in choices]
     assert same(
-        options_of(parser.parse_args(words(cls, [n for n in cli if n in CHOICES])), cls),
-        cls(**{n: CHOICES[n][0] for n in cli if n in CHOICES}),
+        options_of(parser.parse_args(words(cls, [n for n in cli])), cls),
+        cls(**{n: choices[n][0] for n in cli}),
     )
-    manifest = offered(cls, "manifest")
-    assert same(from_text(cls, {key(cls, n): CHOICES[n][1] for n in manifest}), cls(**{n: CHOICES[n][0] for n in manifest}))
-    live = offered(cls, "json")
-    message = json.loads(json.dumps({key(cls, n): list(CHOICES[n][0]) if n == "only" else CHOICES[n][0] for n in live}))
-    assert same(from_json(cls, message), cls(**{n: CHOICES[n][0] for n in live}))
+    manifest = [n for n in offered(cls, "manifest") if n in choices]
+    assert same(from_text(cls, {key(cls, n): choices[n][1] for n in manifest}), cls(**{n: choices[n][0] for n in manifest}))
+    live = [n for n in offered(cls, "json") if n in choices]
+    message = json.loads(json.dumps({key(cls, n): list(choices[n][0]) if n == "only" else choices[n][0] for n in live}))
+    assert same(from_json(cls, message), cls(**{n: choices[n][0] for n in live}))
     app = FastAPI()
     add_error_answers(app)
 
     @app.post("/form")
     async def form(asked: Asked = Depends(options_form(cls))) -> dict[str, list[str]]:
-        assert same(asked.options, cls(**{n: CHOICES[n][0] for n in asked.given}))
+        assert same(asked.options, cls(**{n: choices[n][0] for n in asked.given}))
         return {"given": sorted(asked.given)}
 
-    fields = [n for n in offered(cls, "form") if n in CHOICES]
-    answer = TestClient(app).post("/form", data={key(cls, n): CHOICES[n][1] for n in fields})
+    fields = [n for n in offered(cls, "form") if n in choices]
+    answer = TestClient(app).post("/form", data={key(cls, n): choices[n][1] for n in fields})
     assert answer.status_code == 200 and answer.json()["given"] == sorted(fields)
 
 
@@ -97,6 +106,9 @@ def test_every_surface_gives_the_same_value(cls):
         ({"retarget": 1}, "retarget"),
         ({"global_warp": "rbf", "global_landmarks": [[0.0, 0.0]] * 68}, "global_landmarks"),
         ({"colour": True}, "colour"),
+        ({"strength_mouth": -0.1}, "strength_mouth"),
+        ({"strength_shading": None}, "strength_shading"),
+        ({"only": "mouth", "strength_eyes": 1.0}, "strength_eyes"),
     ],
 )
 def test_a_bad_option_is_refused_by_name(change, subject):
@@ -128,4 +140,4 @@ def test_text_and_json_say_which_field_is_wrong():
 
 def test_the_render_options_are_the_cheap_ones():
     """What a prepared clone renders again with: nothing its preparation (landmarks, lambda search, ERI inputs) uses."""
-    assert set(RENDER) == {"mouth", "strength", "only"} and set(RENDER) <= set(names(Options))
+    assert set(RENDER) == {"mouth", "strength", "only", *REGION_STRENGTHS, "strength_shading"} and set(RENDER) <= set(names(Options))

@@ -29,8 +29,9 @@ The options (beyond the method of Fig. 11 and its lambda_k):
 - ``image_warp``: how the photo follows its landmarks: ``mesh``, the piecewise-affine
   warp over the Delaunay mesh (the paper's), or ``tps``, a thin-plate spline
   (Bookstein), smooth across the mesh's triangle edges (:mod:`exprclone.imaging.tps`).
-- ``strength`` and ``only`` (not in the paper): how much of the expression is
-  transferred, and where (:mod:`exprclone.geometry.weights`).
+- ``strength``, ``only``, the regions' own strengths (``strength_mouth``, ``strength_eyes``,
+  ``strength_brows``) and ``strength_shading`` (not in the paper): how much of the expression
+  is transferred, and where (:mod:`exprclone.geometry.weights`).
 - ``retarget`` (not in the paper; on by default): the source's motion is cleaned of the
   landmark fitter's scatter and of its lopsided part before any global warp, and local
   re-shaping aims at the target's own organs moved by the source instead of the source's
@@ -39,7 +40,7 @@ The options (beyond the method of Fig. 11 and its lambda_k):
 - ``mouth``, ``landmarker``, ``eigenfaces``, ``layout``: the mouth interior, what places the
   landmarks, the DB metric's basis and the landmarks' layout.
 
-``strength``, ``only`` and ``mouth`` are the cheap part (:data:`RENDER`): a prepared clone renders
+The strengths, ``only`` and ``mouth`` are the cheap part (:data:`RENDER`): a prepared clone renders
 again with other values of them (:meth:`exprclone.pipeline.cloner.Prepared.render`).
 
 >>> Options().global_stage, Options(global_warp="rbf").global_stage
@@ -198,6 +199,24 @@ def _strength(value: Any, name: str) -> float:
     return float(value)
 
 
+def _region_strength(value: Any, name: str) -> float | None:
+    return None if value is None else _strength(value, name)
+
+
+def _strength_spec(help: str, check: Callable[[Any, str], Any] = _strength) -> Spec:
+    """The spec of a strength (``strength``, a region's, the shading's): a number within :data:`STRENGTH_RANGE`."""
+    schema = {"minimum": STRENGTH_RANGE[0], "maximum": STRENGTH_RANGE[1]}
+    return Spec(help, check, _number, float, also=(int,), metavar="S", schema=schema)
+
+
+def _region_spec(region: str) -> Spec:
+    """The spec of a region's own strength (``strength_mouth``...): None follows ``strength``."""
+    return _strength_spec(
+        f"the strength of the {region} alone (motion and shading), from 0 (the target's own {region}) to 2; by default the strength",
+        _region_strength,
+    )
+
+
 def check_regions(only: Any, name: str = "only", regions: tuple[str, ...] = REGIONS) -> tuple[str, ...] | None:
     """``only`` as a tuple of known region names without repeats (a comma-separated string is split), or None for all
     (also when it names every region: the whole face)."""
@@ -282,6 +301,10 @@ class Options(Chosen):
         Within :data:`STRENGTH_RANGE`.
     only : tuple of str or None
         Regions (:data:`REGIONS`) whose motion alone is transferred; None for all.
+    strength_mouth, strength_eyes, strength_brows : float or None
+        A region's own strength (:attr:`region_strengths`); None: ``strength``.
+    strength_shading : float
+        A factor on the details' strength (the ERI's exponent), within :data:`STRENGTH_RANGE`.
     retarget : bool
         Make the source's motion the target's before the global and local stages
         (:mod:`exprclone.geometry.retarget`); False: the paper's stages.
@@ -368,16 +391,7 @@ class Options(Chosen):
         ),
     )
     strength: float = option(
-        1.0,
-        Spec(
-            "how much of the expression to transfer: 0 leaves the target as it is, 1 all of it, up to 2",
-            _strength,
-            _number,
-            float,
-            also=(int,),
-            metavar="S",
-            schema={"minimum": STRENGTH_RANGE[0], "maximum": STRENGTH_RANGE[1]},
-        ),
+        1.0, _strength_spec("how much of the expression to transfer: 0 leaves the target as it is, 1 all of it, up to 2")
     )
     only: tuple[str, ...] | None = option(
         None,
@@ -387,6 +401,16 @@ class Options(Chosen):
             also=(list,),
             metavar="REGIONS",
             schema={"pattern": f"^({'|'.join(REGIONS)})(,({'|'.join(REGIONS)}))*$"},
+        ),
+    )
+    strength_mouth: float | None = option(None, _region_spec("mouth"))
+    strength_eyes: float | None = option(None, _region_spec("eyes"))
+    strength_brows: float | None = option(None, _region_spec("brows"))
+    strength_shading: float = option(
+        1.0,
+        _strength_spec(
+            "how much of the expression's shading (the ERI's folds and shadows, methods with ERI) goes with its motion: 0"
+            " the motion alone, 1 as much as the motion, up to 2"
         ),
     )
     retarget: bool = option(
@@ -414,6 +438,9 @@ class Options(Chosen):
 
     def __post_init__(self) -> None:
         super().__post_init__()
+        left_out = [r for r in REGIONS if self.only is not None and r not in self.only and getattr(self, f"strength_{r}") is not None]
+        if left_out:
+            raise ExprCloneError(f"strength_{left_out[0]}", f"the {left_out[0]} are left out by only={','.join(self.only or ())}; drop one")
         if self.global_landmarks is not None and self.global_warp != GLOBAL_WARPS[0]:
             raise ExprCloneError("global_landmarks", f"given landmarks replace the global warp; drop global_warp={self.global_warp!r}")
 
@@ -421,6 +448,18 @@ class Options(Chosen):
     def global_stage(self) -> str:
         """The global warp that gives GI: :data:`GIVEN` when its landmarks are given, else ``global_warp``."""
         return GIVEN if self.global_landmarks is not None else self.global_warp
+
+    @property
+    def region_strengths(self) -> dict[str, float]:
+        """Each region's strength (:data:`REGIONS`): its own if given, else ``strength`` (0 for a region ``only`` leaves out).
+
+        >>> Options(strength=0.8, strength_mouth=1.3, strength_eyes=0).region_strengths
+        {'mouth': 1.3, 'eyes': 0.0, 'brows': 0.8}
+        >>> Options(only="mouth").region_strengths
+        {'mouth': 1.0, 'eyes': 0.0, 'brows': 0.0}
+        """
+        own = {r: getattr(self, f"strength_{r}") for r in REGIONS}
+        return {r: s if s is not None else self.strength if self.only is None or r in self.only else 0.0 for r, s in own.items()}
 
     @property
     def landmarks_layout(self) -> Layout:
@@ -652,4 +691,4 @@ def _same(a: Any, b: Any) -> bool:
 
 
 #: the options a prepared clone renders again with (:meth:`exprclone.pipeline.cloner.Prepared.render`): the cheap part.
-RENDER = ("mouth", "strength", "only")
+RENDER = ("mouth", "strength", "only", "strength_mouth", "strength_eyes", "strength_brows", "strength_shading")

@@ -1,4 +1,4 @@
-"""Expression strength and ``only``: what is transferred, how much, and where."""
+"""Expression strength, per region and whole, and ``only``: what is transferred, how much, and where."""
 
 import numpy as np
 import pytest
@@ -99,3 +99,65 @@ def test_a_cloner_with_strength_drives_every_frame_with_it(pair):
     cloner = Cloner(sn, sn_lm, tn, tn_lm, strength=0)
     r = cloner.changed(lambda_k=0.0).clone_methods(se, se_lm, ("e+md",))["e+md"]
     assert np.abs(r.image.astype(int) - tn).max() <= 1
+
+
+def hull_pixels(image, points, regions):
+    """The pixels of ``image`` inside the convex hull of each of the region's parts (the eyes: each eye)."""
+    import cv2
+
+    mask = np.zeros(image.shape[:2], np.uint8)
+    for part in regions:
+        cv2.fillConvexPoly(mask, cv2.convexHull(np.round(points[list(part)]).astype(np.int32)), 1)
+    return image[mask > 0].astype(int)
+
+
+@pytest.mark.parametrize("region, parts", [("mouth", [DLIB68.regions["mouth"]]), ("eyes", list(DLIB68.eyes))])
+def test_a_region_at_strength_zero_is_the_targets_own(pair, region, parts):
+    """Its landmarks stay at the target's neutral ones and its pixels are the target's, by every method; the other regions
+    still move as they do in the whole clone."""
+    images, landmarks = pair
+    prepared = exprclone.prepare(*images, exprclone.METHODS, landmarks=landmarks)
+    whole, held = prepared.render(), prepared.render(**{f"strength_{region}": 0})
+    idx = list(DLIB68.regions[region])
+    others = [i for name, ids in DLIB68.regions.items() if name != region for i in ids]
+    for method in exprclone.METHODS:
+        neutral = held[method].landmarks["target_neutral"]
+        assert np.abs(whole[method].landmarks["final"][idx] - neutral[idx]).max() > 1, method  # what it holds back
+        assert np.array_equal(held[method].landmarks["final"][idx], neutral[idx]), method
+        assert np.array_equal(held[method].landmarks["final"][others], whole[method].landmarks["final"][others]), method
+        assert np.array_equal(hull_pixels(held[method].image, neutral, parts), hull_pixels(images[2], neutral, parts)), method
+        assert np.abs(hull_pixels(whole[method].image, neutral, parts) - hull_pixels(images[2], neutral, parts)).mean() > 3, method
+
+
+def test_the_mouth_opens_with_its_own_strength_and_the_eyes_keep_theirs(open_mouths):
+    images, landmarks = open_mouths
+    prepared = exprclone.prepare(*images, landmarks=landmarks)
+    results = [prepared.render(strength=0.5, strength_mouth=float(s))["e+md"] for s in np.linspace(0, 2, 6)]
+    opening = [measure.opening(r.landmarks["final"], DLIB68) for r in results]
+    assert np.all(np.diff(opening) > 0), opening
+    eyes = [r.landmarks["final"][list(DLIB68.regions["eyes"])] for r in results]
+    assert all(np.array_equal(e, eyes[0]) for e in eyes)  # at the whole strength, 0.5, whatever the mouth's
+    half = prepared.render(strength=0.5)["e+md"].landmarks["final"]
+    assert np.array_equal(half[list(DLIB68.regions["eyes"])], eyes[0])
+
+
+def test_only_is_a_case_of_the_regions_strengths(pair):
+    """``only=mouth`` means the eyes' and brows' strengths at 0: the same image, bit for bit."""
+    images, landmarks = pair
+    prepared = exprclone.prepare(*images, ("e+md", "global"), landmarks=landmarks)
+    by_only, by_strengths = prepared.render(only=("mouth",), strength=0.7), prepared.render(strength=0.7, strength_eyes=0, strength_brows=0)
+    for method in by_only:
+        assert np.array_equal(by_only[method].image, by_strengths[method].image), method
+
+
+def test_shading_scales_the_details_alone(pair):
+    """``strength_shading=0``: each ERI method gives its shape's image (FI), the ERI left out; 2 doubles the ERI's logarithm."""
+    images, landmarks = pair
+    prepared = exprclone.prepare(*images, ("global", "global+eri"), landmarks=landmarks)
+    plain, none = prepared.render(mouth=False), prepared.render(mouth=False, strength_shading=0)
+    assert np.array_equal(none["global+eri"].image, plain["global"].image)
+    assert np.array_equal(none["global+eri"].landmarks["final"], plain["global+eri"].landmarks["final"])
+    folds = np.abs(np.log(plain["global+eri"].eri)) > 0.05  # where the ERI darkens or lightens
+    assert np.abs(plain["global+eri"].image.astype(int) - plain["global"].image)[folds].mean() > 3  # what shading 0 takes away
+    double = prepared.render(strength_shading=2)["global+eri"].eri
+    assert np.allclose(np.log(double), 2 * np.log(plain["global+eri"].eri), atol=1e-5)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..options import Options
+from ..options import REGIONS, Options
 from .inputs import add_inputs, load_inputs, source_photos
 
 
@@ -47,6 +47,9 @@ def describe(options: Options) -> str:
         said.append(f"strength {options.strength:g}")
     if options.only is not None:
         said.append(f"only {','.join(options.only)}")
+    said += [f"{r} strength {s:g}" for r in REGIONS if (s := getattr(options, f"strength_{r}")) is not None]
+    if options.strength_shading != default.strength_shading:
+        said.append(f"shading strength {options.strength_shading:g}")
     if options.retarget != default.retarget:
         said.append("no retarget")
     return "".join(f", {s}" for s in said)

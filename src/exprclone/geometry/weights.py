@@ -1,34 +1,39 @@
-"""How much of the expression is transferred, and where: expression strength and ``only`` (not in the paper).
+"""How much of the expression is transferred, and where: the strengths, whole and per region (not in the paper).
 
 A clone carries three things from the source to the target: landmark motion, the
-expression ratio image, and the mouth interior pasted into an opened mouth. With
-strength ``S`` and regions ``R`` (:class:`exprclone.options.Options`), each is scaled by
-a weight ``w = S * r``, where ``r`` says how much a place belongs to the regions named
-(1 inside them, 0 in the other regions, a smooth transition in between; :func:`region_share`):
+expression ratio image, and the mouth interior pasted into an opened mouth. Each region
+(mouth, eyes, brows) has a strength (:attr:`exprclone.options.Options.region_strengths`:
+its own, else the whole expression's ``S``, 0 for a region that ``only`` leaves out), and
+each place of the face a weight ``w`` that blends them (1 inside a region of strength 1,
+a smooth transition between regions; :func:`weight`):
 
 - the landmarks of the shape stages move ``w`` times as far from the target's neutral
   landmarks (:meth:`Transfer.landmarks`);
-- the ERI becomes ``ERI ** w`` (in the log domain, so ``w = 0`` is no change and
-  ``w = 2`` doubles each fold's contrast; :meth:`Transfer.ratio`);
+- the ERI becomes ``ERI ** (w * shading)`` (in the log domain, so ``w = 0`` is no change and
+  ``w = 2`` doubles each fold's contrast; :meth:`Transfer.ratio`), ``shading`` a factor on the
+  details alone (``strength_shading``; 0: the motion without its folds and shadows);
 - the mouth interior fades in with the opening the scaled motion produces, as it does
   for the whole expression (:mod:`exprclone.mouth.paste`), and with the share of the mouth's
   motion transferred, ``min(1, w)`` on the mouth (:attr:`Transfer.paste`): at ``S = 0`` no
   source teeth enter a target whose neutral lips are already parted.
 
-``S = 0`` leaves the target photo as it is; the mouth opening grows steadily with ``S``.
-The elasticity ratio lambda_k is chosen on the whole expression: strength scales the
-result of the shape stages, it does not change them.
+``S = 0`` leaves the target photo as it is, and a region of strength 0 its own part of it;
+the mouth opening grows steadily with the mouth's strength. The elasticity ratio lambda_k is
+chosen on the whole expression: the strengths scale the result of the shape stages, they do
+not change them.
 
-The transition between regions: a place at distances ``d_in`` from the nearest landmark
-of the regions named and ``d_out`` from the nearest of the other regions has
-``r = d_out**2 / (d_in**2 + d_out**2)`` (inverse-distance weighting, Shepard 1968, power 2:
-smooth, flat at the landmarks, 1/2 half-way). Landmarks in no region (the jaw, the nose)
-take the ``r`` of where they are: with ``only=("mouth",)`` the chin follows the mouth,
-the bridge of the nose stays with the eyes.
+The transition between regions: regions of equal strength make one group, and a place at
+squared distance ``d_g`` from the nearest landmark of group ``g`` takes the group's strength
+with the share ``(1 / d_g) / sum(1 / d_h)`` (inverse-distance weighting, Shepard 1968, power 2:
+smooth, flat at the landmarks; with two groups, ``d_2 / (d_1 + d_2)``, 1/2 half-way;
+:func:`group_shares`). Landmarks in no region (the jaw, the nose) take the ``w`` of where they
+are: with ``only=("mouth",)`` the chin follows the mouth, the bridge of the nose stays with the
+eyes.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import cv2
@@ -41,17 +46,38 @@ from ..landmarks.layout import Layout
 FIELD_STEP = 8
 
 
-def region_share(places: np.ndarray, landmarks: np.ndarray, layout: Layout, only: tuple[str, ...]) -> np.ndarray:
-    """How much each place belongs to the regions ``only`` (the module's rule), ``(K,)`` in [0, 1].
+def group_shares(places: np.ndarray, landmarks: np.ndarray, groups: list[list[int]]) -> np.ndarray:
+    """How much each place belongs to each group of landmarks (the module's rule), ``(G, K)``, each column summing to 1.
+
+    With ``d_g`` the squared distance from a place to the nearest landmark of group ``g``, its share is
+    ``prod(d_h, h != g) / sum over g' of prod(d_h, h != g')``: ``(1 / d_g) / sum(1 / d_h)`` without dividing by 0 at a
+    landmark (two groups: ``d_2 / (d_1 + d_2)``). A place at landmarks of several groups at once shares equally.
 
     Parameters
     ----------
     places : ndarray of shape (K, 2)
     landmarks : ndarray of shape (N, 2)
         The face's landmarks (the target's neutral ones).
-    layout : Layout
-    only : tuple of str
-        Names of :attr:`Layout.regions`.
+    groups : list of lists of int
+        Indices into ``landmarks``, one list per group.
+
+    Examples
+    --------
+    >>> face = np.array([[0.0, 10], [0, -10], [0, -20]])
+    >>> group_shares(np.array([[0, 10], [0, 0], [0, -10]]), face, [[0], [1, 2]]).round(3).tolist()
+    [[1.0, 0.5, 0.0], [0.0, 0.5, 1.0]]
+    """
+    if len(groups) == 1:
+        return np.ones((1, len(places)))
+    d = np.stack([np.min(np.sum((places[:, None] - landmarks[idx][None]) ** 2, axis=2), axis=1) for idx in groups])
+    numerators = np.stack([np.prod(np.delete(d, g, axis=0), axis=0) for g in range(len(groups))])
+    total = numerators.sum(axis=0)
+    return np.where(total > 0, numerators / np.where(total > 0, total, 1.0), 1.0 / len(groups))
+
+
+def weight(places: np.ndarray, landmarks: np.ndarray, layout: Layout, strengths: Mapping[str, float]) -> np.ndarray:
+    """The weight ``w`` of each place, ``(K,)``: the regions' strengths blended by :func:`group_shares` of the groups of
+    regions with equal strength.
 
     Examples
     --------
@@ -59,17 +85,14 @@ def region_share(places: np.ndarray, landmarks: np.ndarray, layout: Layout, only
     >>> face = np.zeros((68, 2))
     >>> for name, y in (("mouth", 10), ("eyes", -10), ("brows", -20)):
     ...     face[list(DLIB68.regions[name])] = (0, y)
-    >>> region_share(np.array([[0, 10], [0, 0], [0, -10]]), face, DLIB68, ("mouth",)).tolist()
+    >>> weight(np.array([[0, 10], [0, 0], [0, -10]]), face, DLIB68, {"mouth": 1.0, "eyes": 0.0, "brows": 0.0}).tolist()
     [1.0, 0.5, 0.0]
     """
-    named = [i for name in only for i in layout.regions[name]]
-    others = [i for name, idx in layout.regions.items() if name not in only for i in idx]
-    if not others:
-        return np.ones(len(places))
-    nearest = [np.min(np.sum((places[:, None] - landmarks[idx][None]) ** 2, axis=2), axis=1) for idx in (named, others)]
-    d_in, d_out = nearest
-    total = d_in + d_out
-    return np.where(total > 0, d_out / np.where(total > 0, total, 1.0), 0.5)
+    levels = sorted(set(strengths.values()), reverse=True)
+    groups = [[i for name, s in strengths.items() if s == level for i in layout.regions[name]] for level in levels]
+    shares = group_shares(places, landmarks, groups)
+    total: np.ndarray = sum((level * share for level, share in zip(levels, shares)), np.zeros(len(places)))
+    return total
 
 
 @dataclass(frozen=True)
@@ -94,22 +117,25 @@ class Transfer:
     paste: float = 1.0
 
     @classmethod
-    def build(cls, strength: float, only: tuple[str, ...] | None, neutral: np.ndarray, shape: tuple[int, ...], layout: Layout) -> Transfer:
-        """The weights of ``strength`` on the regions ``only`` (None: all) on the target face with ``neutral`` landmarks,
-        in a photo of ``shape``."""
-        s = strength
-        if s == 1 and only is None:  # the whole expression everywhere, as in the paper
-            return cls(neutral)
-        if only is None:
-            return cls(neutral, np.full(len(neutral), s), s, min(1.0, s))
+    def build(cls, strengths: Mapping[str, float], shading: float, neutral: np.ndarray, shape: tuple[int, ...], layout: Layout) -> Transfer:
+        """The weights of the regions' ``strengths`` (:attr:`exprclone.options.Options.region_strengths`), the details'
+        scaled by ``shading``, on the target face with ``neutral`` landmarks, in a photo of ``shape``."""
+        levels = set(strengths.values())
+        if len(levels) == 1:
+            (s,) = levels
+            if s == 1 and shading == 1:  # the whole expression everywhere, as in the paper
+                return cls(neutral)
+            return cls(neutral, np.full(len(neutral), s), s * shading, min(1.0, s))
         h, w = shape[:2]
         ys, xs = np.arange(0, h + FIELD_STEP, FIELD_STEP), np.arange(0, w + FIELD_STEP, FIELD_STEP)
         grid = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2).astype(float)
-        coarse = (s * region_share(grid, neutral, layout, only)).reshape(len(ys), len(xs)).astype(np.float32)
+        coarse = weight(grid, neutral, layout, strengths).reshape(len(ys), len(xs)).astype(np.float32)
+        if shading != 1:
+            coarse *= np.float32(shading)
         # node (i, j) of the grid is pixel (j, i) * FIELD_STEP: an exact affine resampling
         scale = np.array([[1.0 / FIELD_STEP, 0, 0], [0, 1.0 / FIELD_STEP, 0]])
         field = cv2.warpAffine(coarse, scale, (w, h), flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_REPLICATE)
-        motion = s * region_share(neutral, neutral, layout, only)
+        motion = weight(neutral, neutral, layout, strengths)
         mouth = float(motion[list(layout.regions["mouth"])].mean())
         return cls(neutral, motion, field, min(1.0, mouth))
 

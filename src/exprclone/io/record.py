@@ -44,6 +44,8 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
             "image_warp": options.image_warp,
             "strength": options.strength,
             "only": None if options.only is None else list(options.only),
+            "region_strengths": options.region_strengths,
+            "strength_shading": options.strength_shading,
             "retarget": options.retarget,
         },
         "lambda_k": json_number(result.lambda_k),

@@ -70,7 +70,7 @@ def prepare(
     -------
     Prepared
         Its :meth:`~exprclone.pipeline.cloner.Prepared.render` gives one :class:`CloneResult` per method, with the
-        options or other values of their cheap part (``strength``, ``only``, ``mouth``).
+        options or other values of their cheap part (the strengths, ``only``, ``mouth``).
 
     Raises
     ------

@@ -187,13 +187,14 @@ class Cloner:
 
     def weights(self, options: Options) -> Transfer:
         """How much of the expression ``options`` transfer, and where (:class:`~exprclone.geometry.weights.Transfer`):
-        the cloner's own when their strength and regions are its options'."""
-        if (options.strength, options.only) == (self.options.strength, self.options.only):
+        the cloner's own when their strengths are its options'."""
+        if (options.region_strengths, options.strength_shading) == (self.options.region_strengths, self.options.strength_shading):
             return self.transfer
         return self._transfer(options)
 
     def _transfer(self, options: Options) -> Transfer:
-        return Transfer.build(options.strength, options.only, self.faces.t_neu, self.faces.target_image.shape, self.faces.layout)
+        faces = self.faces
+        return Transfer.build(options.region_strengths, options.strength_shading, faces.t_neu, faces.target_image.shape, faces.layout)
 
     def prepare(
         self,
@@ -375,7 +376,7 @@ class Prepared:
     warnings: tuple[str, ...] = ()
 
     def render(self, **changes: Any) -> dict[str, CloneResult]:
-        """Each method's image, with the cloner's options or others of their cheap part (:data:`RENDER`: ``strength``,
+        """Each method's image, with the cloner's options or others of their cheap part (:data:`RENDER`: the strengths,
         ``only``, ``mouth``): FI for each shape, the ERI in its geometry, then the detail stages (:meth:`Cloner.result`).
 
         Raises
