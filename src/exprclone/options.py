@@ -396,7 +396,8 @@ class Options(Chosen):
     only: tuple[str, ...] | None = option(
         None,
         Spec(
-            f"transfer the motion of these regions only (comma-separated: {','.join(REGIONS)}), the others held where they are",
+            f"transfer the motion of these regions only (comma-separated: {','.join(REGIONS)}), the others held where they are"
+            " (unless given a strength of their own)",
             check_regions,
             also=(list,),
             metavar="REGIONS",
@@ -438,9 +439,6 @@ class Options(Chosen):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        left_out = [r for r in REGIONS if self.only is not None and r not in self.only and getattr(self, f"strength_{r}") is not None]
-        if left_out:
-            raise ExprCloneError(f"strength_{left_out[0]}", f"the {left_out[0]} are left out by only={','.join(self.only or ())}; drop one")
         if self.global_landmarks is not None and self.global_warp != GLOBAL_WARPS[0]:
             raise ExprCloneError("global_landmarks", f"given landmarks replace the global warp; drop global_warp={self.global_warp!r}")
 
@@ -451,12 +449,13 @@ class Options(Chosen):
 
     @property
     def region_strengths(self) -> dict[str, float]:
-        """Each region's strength (:data:`REGIONS`): its own if given, else ``strength`` (0 for a region ``only`` leaves out).
+        """Each region's strength (:data:`REGIONS`): its own if given, else ``strength``, or 0 for a region that ``only``
+        leaves out (``only`` is a shorthand for those zeros).
 
         >>> Options(strength=0.8, strength_mouth=1.3, strength_eyes=0).region_strengths
         {'mouth': 1.3, 'eyes': 0.0, 'brows': 0.8}
-        >>> Options(only="mouth").region_strengths
-        {'mouth': 1.0, 'eyes': 0.0, 'brows': 0.0}
+        >>> Options(only="mouth").region_strengths, Options(only="mouth", strength_eyes=0.5).region_strengths
+        ({'mouth': 1.0, 'eyes': 0.0, 'brows': 0.0}, {'mouth': 1.0, 'eyes': 0.5, 'brows': 0.0})
         """
         own = {r: getattr(self, f"strength_{r}") for r in REGIONS}
         return {r: s if s is not None else self.strength if self.only is None or r in self.only else 0.0 for r, s in own.items()}

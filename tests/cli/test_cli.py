@@ -191,7 +191,11 @@ def test_clone_with_the_transfer_options(london, tmp_path):
     assert "global warp rbf, image warp tps, strength 0, no retarget" in p.stdout
     assert np.abs(np.asarray(Image.open(out)).astype(int) - np.asarray(Image.open(TN))).max() <= 1  # strength 0: the target
     recorded = json.loads(record.read_text())["options"]
-    assert recorded == {"global_warp": "rbf", "image_warp": "tps", "strength": 0.0, "only": None, "retarget": False}
+    regions = {"mouth": 0.0, "eyes": 0.0, "brows": 0.0}
+    assert recorded == {
+        **{"global_warp": "rbf", "image_warp": "tps", "strength": 0.0, "only": None, "retarget": False},
+        **{"region_strengths": regions, "strength_shading": 1.0},
+    }
 
 
 def test_global_landmarks_equal_to_the_default_gi_give_the_default_image(pair, tmp_path):

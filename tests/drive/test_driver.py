@@ -250,3 +250,21 @@ def test_the_command_takes_strength(grid_clip, tmp_path):
     assert probe(out).frames == 75
     p = run("video", PORTRAIT, grid_clip, "-o", tmp_path / "bad.mp4", "--strength", "5")
     assert p.returncode == 2 and "--strength" in p.stderr and not (tmp_path / "bad.mp4").exists()
+
+
+def test_the_mouth_at_strength_zero_is_the_portraits_own_in_every_frame(portrait, grid_clip, driven):
+    """``strength_mouth=0`` holds the portrait's mouth through a performance that moves it: its landmarks exactly, its
+    pixels within one level (the shading's weight is interpolated from a grid, small but not 0 inside the lips); the rest
+    of the face is still driven."""
+    import cv2
+
+    recording = prepare(portrait, grid_clip, strength_mouth=0)
+    neutral = recording.driver.cloner.faces.t_neu
+    mask = np.zeros(portrait.shape[:2], np.uint8)
+    cv2.fillConvexPoly(mask, cv2.convexHull(np.round(neutral[list(MOUTH)]).astype(np.int32)), 1)
+    held = list(recording.frames(read_frames(grid_clip)))
+    moving = driven[True][1]
+    assert max(np.abs(f.image.astype(int) - portrait)[mask > 0].max() for f in moving) > 30  # the mouth that is held back
+    assert all(np.array_equal(f.result.landmarks["final"][list(MOUTH)], neutral[list(MOUTH)]) for f in held)
+    assert max(np.abs(f.image.astype(int) - portrait)[mask > 0].max() for f in held) <= 1
+    assert max(np.abs(f.image.astype(int) - portrait)[mask == 0].max() for f in held) > 10  # the rest still moves

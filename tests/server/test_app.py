@@ -349,7 +349,11 @@ def test_clone_with_the_transfer_options_answers_the_python_apis_image(client, s
     r = client.post("/api/clone?format=json", files=files(), data=form)
     assert r.status_code == 200, r.text
     record = r.json()
-    assert record["options"] == {"global_warp": "rbf", "image_warp": "tps", "strength": 0.5, "only": ["mouth", "eyes"], "retarget": False}
+    regions = {"mouth": 0.5, "eyes": 0.5, "brows": 0.0}
+    assert record["options"] == {
+        **{"global_warp": "rbf", "image_warp": "tps", "strength": 0.5, "only": ["mouth", "eyes"], "retarget": False},
+        **{"region_strengths": regions, "strength_shading": 1.0},
+    }
     image = np.asarray(Image.open(io.BytesIO(base64.b64decode(record["png"]))).convert("RGB"))
     assert np.array_equal(image, expected.image)
 

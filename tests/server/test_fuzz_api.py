@@ -104,8 +104,10 @@ DROPPED = ("expression", "source_neutral_landmarks", "source_expression_landmark
 
 
 def fields(raw: dict, path: str) -> set[str]:
-    """The form fields a POST to ``path`` takes, from the OpenAPI document ``raw``."""
-    body = raw["paths"][path]["post"]["requestBody"]["content"]["multipart/form-data"]["schema"]["$ref"]
+    """The form fields a POST to ``path`` takes (multipart, or URL-encoded when it takes no file), from the OpenAPI document
+    ``raw``."""
+    (media,) = raw["paths"][path]["post"]["requestBody"]["content"].values()
+    body = media["schema"]["$ref"]
     return set(raw["components"]["schemas"][body.rsplit("/", 1)[1]]["properties"])
 
 

@@ -95,7 +95,7 @@ def test_the_transfer_controls_reach_the_clone(page):
     page.select_option("#global-warp", "rbf")
     page.select_option("#image-warp", "tps")
     page.fill("#strength", "0.5")
-    page.uncheck(".region[value=eyes]")
+    page.fill("#strength-eyes", "0")
     page.uncheck("#retarget")
     page.select_option("#landmarker", "mesh")
     page.evaluate("document.querySelector('img#result').removeAttribute('src')")
@@ -104,14 +104,69 @@ def test_the_transfer_controls_reach_the_clone(page):
         "document.querySelector('#busy').hidden && document.querySelector('img#result').naturalWidth > 0", timeout=CLONE_TIMEOUT
     )
     caption = page.text_content("#result-caption")
-    assert "global warp rbf" in caption and "tps" in caption and "strength 0.5" in caption and "only mouth, brows" in caption, caption
+    assert "global warp rbf" in caption and "tps" in caption and "strength 0.5" in caption and "eyes 0," in caption, caption
     assert "no retarget" in caption and "mesh landmarks" in caption, caption
     page.select_option("#landmarker", "dlib")
-    page.check(".region[value=eyes]")
+    page.click("#strengths-reset")
     page.check("#retarget")
     page.select_option("#global-warp", "")
     page.select_option("#image-warp", "mesh")
-    page.fill("#strength", "1")
+
+
+def opening_of(image) -> float:
+    """The mouth's opening in a face of an image, its landmarks found afresh: the inner lips' area, in pixels (the
+    opening over the squared mouth width would shrink as a strong smile widens the mouth)."""
+    from exprclone.landmarks.backends import default_detector
+    from exprclone.landmarks.layout import DLIB68
+    from exprclone.mouth import measure
+
+    points = default_detector().detect(image)
+    return measure.opening(points, DLIB68) * measure.mouth_width(points, DLIB68) ** 2
+
+
+#: what the result on screen was rendered with (the page's data-rendered), as a JavaScript expression.
+RENDERED = "JSON.parse(document.querySelector('img#result').dataset.rendered || '{}')"
+
+
+def test_dragging_the_mouth_slider_opens_the_mouth_step_by_step(page):
+    """Ten steps of the mouse along the mouth's slider, from 0 to its top: ten new previews (512 pixels), the mouth
+    opening more at each; letting go makes the full size; the keyboard moves the slider too."""
+    import io
+
+    page.reload()
+    set_photos(page, samples.path("003"))
+    page.click("#clone")
+    page.wait_for_function("document.querySelector('img#result').dataset.rendered", timeout=CLONE_TIMEOUT)
+    page.fill("#strength-mouth", "0")
+    page.dispatch_event("#strength-mouth", "change")
+    page.wait_for_function(f"{RENDERED}.strength_mouth === '0'", timeout=CLONE_TIMEOUT)
+    box = page.locator("#strength-mouth").bounding_box()
+    y, left, width = box["y"] + box["height"] / 2, box["x"], box["width"]
+    page.mouse.move(left + 1, y)
+    page.mouse.down()
+    openings = []
+    for step in range(1, 11):
+        page.mouse.move(left + width * step / 10 - (1 if step == 10 else 0), y)
+        value = page.input_value("#strength-mouth")
+        page.wait_for_function(
+            f"(r => r.size === 'preview' && r.strength_mouth === '{value}')({RENDERED})",
+            timeout=CLONE_TIMEOUT,
+        )
+        shot = page.evaluate("fetch(document.querySelector('img#result').src).then(r => r.arrayBuffer()).then(b => [...new Uint8Array(b)])")
+        image = np.asarray(Image.open(io.BytesIO(bytes(shot))).convert("RGB"))
+        assert max(image.shape[:2]) == 512
+        openings.append((float(value), opening_of(image)))
+    page.mouse.up()
+    values = [v for v, _ in openings]
+    assert len(set(values)) == 10 and values == sorted(values) and values[-1] == 2.0, values
+    assert np.all(np.diff([o for _, o in openings]) > 0), openings
+    page.wait_for_function(f"{RENDERED}.size === 'full'", timeout=CLONE_TIMEOUT)
+    assert page.evaluate("document.querySelector('img#result').naturalWidth") == 1350
+    assert "mouth 2" in page.text_content("#result-caption")
+    page.focus("#strength-mouth")
+    page.keyboard.press("Home")  # the keyboard works the slider: to its least value
+    page.wait_for_function(f"{RENDERED}.strength_mouth === '0'", timeout=CLONE_TIMEOUT)
+    page.click("#strengths-reset")
 
 
 def test_compare_draws_figure_19(page):

@@ -32,6 +32,8 @@ BOUNDS: dict[str, tuple[type, float, str, str]] = {
     "max-live": (int, 0, "", "live sessions at once, each in a process of its own; 0 turns live mode off"),
     "live-idle": (float, 1, " s", "how long a live session may go without a frame before it is closed and its slot freed"),
     "max-video-seconds": (float, 1, " s", "the longest driving video a job takes (from its headers, and counted as decoded)"),
+    "max-edits": (int, 1, "", "prepared clones kept at once for the sliders; more are refused with 503"),
+    "edit-ttl": (float, 1, " s", "how long a prepared clone is kept without a render"),
 }
 #: the defaults of uvicorn's bounds.
 UVICORN = {"max-connections": 64, "keep-alive": 5.0}

@@ -189,12 +189,15 @@ def folded(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray) -> np.ndarra
     return (a0 * a1 < 0) & (np.abs(a0) > 1e-3 * np.abs(a0).max())
 
 
-def unfold(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, n_moving: int, max_iter: int = 100) -> tuple[np.ndarray, int]:
+def unfold(
+    src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, n_moving: int, held: np.ndarray | None = None, max_iter: int = 100
+) -> tuple[np.ndarray, int]:
     """Relax moving vertices of folded triangles until no triangle folds over.
 
     Each pass moves every movable vertex of a folded triangle half-way towards the
     mean of its mesh neighbours (a Laplacian step), which restores the orientation of
-    the small triangles that fold first.
+    the small triangles that fold first. The first ``n_moving`` vertices are movable, but for
+    those in ``held`` (indices: a region held at its place, whose pixels must stay the photo's).
 
     Returns
     -------
@@ -210,7 +213,7 @@ def unfold(src: np.ndarray, dst: np.ndarray, triangles: np.ndarray, n_moving: in
         if not bad.any():
             break
         verts = np.unique(triangles[bad])
-        verts = verts[verts < n_moving]
+        verts = verts[(verts < n_moving) & ~np.isin(verts, () if held is None else held)]
         if len(verts) == 0:
             break
         for v in verts:

@@ -250,11 +250,15 @@ class Cloner:
 
     def fi(self, points: np.ndarray, transfer: Transfer) -> Rendered:
         """FI: the target photo warped to ``points``, their motion scaled by ``transfer`` (:mod:`exprclone.geometry.weights`;
-        inner lips made valid, fold-overs relaxed), by the options' image warp."""
+        inner lips made valid, fold-overs relaxed but for the landmarks held by a strength of 0), by the options' image warp."""
         faces = self.faces
         mesh = faces.mesh
-        control = mesh.control_points(lips.uncross(transfer.landmarks(points), faces.layout))
-        control, unfolded = piecewise.unfold(mesh.points, control, mesh.triangles, mesh.n_moving)
+        moved = transfer.landmarks(points)
+        valid = lips.uncross(moved, faces.layout)
+        held = None if transfer.motion is None else np.flatnonzero(transfer.motion == 0)  # a region at strength 0 stays put
+        if held is not None:
+            valid[held] = moved[held]  # (uncross judges the lips in the face's axes, which the other regions turn)
+        control, unfolded = piecewise.unfold(mesh.points, mesh.control_points(valid), mesh.triangles, mesh.n_moving, held)
         return Rendered(self.image_warp(faces.target_image, mesh.points, control, mesh), control, unfolded)
 
     def ratio(self, target: Rendered, photo: ExpressionPhoto, transfer: Transfer) -> Ratio:

@@ -17,11 +17,13 @@ from pydantic import BaseModel, WithJsonSchema
 from .. import __version__, expressions
 from .. import data as samples
 from ..errors import ExprCloneError, quoted
+from ..io.record import json_number
 from ..io.video import Limits
 from ..methods import FIGURES
-from ..options import Driving, Framing, Options, names, spec
+from ..options import RENDER, Driving, Framing, Options, names, spec
 from ..roles import ROLES, SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from . import work
+from .edits import PREVIEW, Edit
 from .forms import Asked, options_form
 from .openapi import errors
 from .state import Server
@@ -54,6 +56,7 @@ VideoOptions = Annotated[Asked, Depends(options_form(Options, tuple(n for n in n
 DrivingForm = Annotated[Asked, Depends(options_form(Driving))]
 FramingForm = Annotated[Asked, Depends(options_form(Framing))]
 LandmarkerForm = Annotated[Asked, Depends(options_form(Options, ("landmarker",)))]
+RenderOptions = Annotated[Asked, Depends(options_form(Options, RENDER))]
 
 
 async def read_optional(upload: UploadFile | None, field: str, extensions: tuple[str, ...] = ()) -> work.Upload | None:
@@ -196,12 +199,14 @@ ANSWERS = {
 }
 
 
+def image_answers(description: str, *statuses: int) -> dict[int | str, dict[str, Any]]:
+    """A route's answers when it answers an image (PNG, JPEG or WebP) described so, or an error of ``statuses``."""
+    return {200: {"content": {"image/png": {}, "image/jpeg": {}, "image/webp": {}}, "description": description}, **errors(*statuses)}
+
+
 @router.post(
     "/api/clone",
-    responses={
-        200: {"content": {"image/png": {}, "image/jpeg": {}, "image/webp": {}}, "description": "the result, at the target photo's size"},
-        **errors(400, 413, 422, 503),
-    },
+    responses=image_answers("the result, at the target photo's size", 400, 413, 422, 503),
 )
 async def clone(
     server: Server,
@@ -228,16 +233,86 @@ async def clone(
     return Response(encoded, media_type=media_type)
 
 
+class EditMade(BaseModel):
+    """A prepared clone (``POST /api/edits``): its id, where to render it, its sizes, lambda_k and the photos' warnings."""
+
+    id: str
+    render: str
+    width: int
+    height: int
+    preview_width: int
+    preview_height: int
+    lambda_k: float | str | None
+    expires_after: float
+    warnings: list[str]
+
+
+@router.post("/api/edits", status_code=201, responses=errors(400, 413, 422, 503))
+async def make_edit(server: Server, uploads: Uploads, asked: CloneOptions) -> EditMade:
+    """Prepare a clone to render again and again with other strengths (sliders): the inputs and options of
+    ``/api/clone``; then ``POST /api/edits/{id}/render``. Kept until ``expires_after`` seconds pass without a render
+    (or ``DELETE /api/edits/{id}``); a server keeps a bounded number (503 with ``Retry-After`` beyond)."""
+    request = await clone_request(server, uploads, asked)
+    full, preview, inputs, placed = await server.run(work.prepare_edit, request, PREVIEW)
+    edit_id = server.edits.add(Edit(full, preview, inputs, placed))
+    (height, width), (preview_height, preview_width) = full.cloner.faces.target_image.shape[:2], preview.cloner.faces.target_image.shape[:2]
+    shape = full.shapes[full.methods[0].shape]
+    return EditMade(
+        id=edit_id,
+        render=f"/api/edits/{edit_id}/render",
+        width=width,
+        height=height,
+        preview_width=preview_width,
+        preview_height=preview_height,
+        lambda_k=json_number(shape.lambda_k),
+        expires_after=server.settings.edit_ttl,
+        warnings=list(full.warnings),
+    )
+
+
+@router.post(
+    "/api/edits/{edit_id}/render",
+    responses=image_answers("the result at the size asked", 400, 404, 413, 422, 503),
+)
+async def render_edit(
+    server: Server,
+    edit_id: str,
+    asked: RenderOptions,
+    preview: Annotated[
+        bool, Query(description=f"true: the preview, its longest side {PREVIEW} pixels; false: the target photo's size")
+    ] = True,
+    format: Annotated[
+        str | None,
+        Query(pattern=f"^({'|'.join(ANSWERS)})$", description="as /api/clone's; by default jpeg for a preview, png at full size"),
+    ] = None,
+) -> Response:
+    """The prepared clone rendered with its options changed by the fields given (the strengths, ``only``, ``mouth``: the
+    others were fixed when it was prepared): tens of milliseconds for a preview. At the default strengths, the image of
+    ``/api/clone`` on the same inputs, bit for bit."""
+    edit = server.edits.get(edit_id)
+    format = format or ("jpeg" if preview else "png")
+    extension, media_type = ANSWERS[format]
+    changes = {name: getattr(asked.options, name) for name in asked.given}
+    encoded, record = await server.render(edit.answer, preview, changes, extension, format == "json")
+    if record is not None:
+        return JSONResponse({**record, "png": base64.b64encode(encoded).decode()})
+    return Response(encoded, media_type=media_type)
+
+
+@router.delete("/api/edits/{edit_id}", status_code=204, responses=errors(404))
+async def delete_edit(server: Server, edit_id: str) -> Response:
+    """Forget a prepared clone (its memory is freed at once rather than when it expires)."""
+    server.edits.delete(edit_id)
+    return Response(status_code=204)
+
+
 #: the compare sheet's answer by ``format``: its file extension and media type.
 SHEETS = {name: ANSWERS[name] for name in ("png", "jpeg", "webp")}
 
 
 @router.post(
     "/api/compare",
-    responses={
-        200: {"content": {"image/png": {}, "image/jpeg": {}, "image/webp": {}}, "description": "the sheet of Figs. 11-13"},
-        **errors(400, 413, 422, 503),
-    },
+    responses=image_answers("the sheet of Figs. 11-13", 400, 413, 422, 503),
 )
 async def compare(
     server: Server,

@@ -34,6 +34,10 @@ class Settings:
         Seconds a live session may go without a frame before it is closed and its slot freed.
     max_video_seconds : float
         The longest driving video a job takes (read from its headers, and counted as it is decoded).
+    max_edits : int
+        Prepared clones kept at once for sliders (:mod:`exprclone.server.edits`).
+    edit_ttl : float
+        Seconds an edit is kept without a render.
     cors : tuple of str
         Origins allowed to call the API from other pages (none by default).
     """
@@ -48,4 +52,6 @@ class Settings:
     max_live: int = 2
     live_idle: float = 30.0
     max_video_seconds: float = 120.0
+    max_edits: int = 8
+    edit_ttl: float = 600.0
     cors: tuple[str, ...] = ()

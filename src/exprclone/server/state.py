@@ -12,7 +12,7 @@ import multiprocessing
 import shutil
 import tempfile
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import Annotated, Any, TypeVar
@@ -21,6 +21,7 @@ from fastapi import Depends
 from starlette.requests import HTTPConnection
 
 from . import work
+from .edits import Edits
 from .jobs import Jobs
 from .limits import Busy, Gate
 from .rendering import Hosts
@@ -31,7 +32,7 @@ T = TypeVar("T")
 
 
 class Work:
-    """The server's state: its temporary folder, the worker pools, the work queue's gate and the video jobs."""
+    """The server's state: its temporary folder, the worker pools, the work queue's gate, the video jobs and the edits."""
 
     def __init__(self, settings: Settings) -> None:
         self.settings = settings
@@ -40,6 +41,8 @@ class Work:
         self.jobs = Jobs(self.folder, settings.max_jobs, settings.job_ttl)
         self.pool = self._pool(settings.workers)
         self.video_pool = self._pool(settings.video_workers)
+        self.edits = Edits(settings.max_edits, settings.edit_ttl)
+        self.renders = ThreadPoolExecutor(settings.workers, thread_name_prefix="render")  # edits render in this process
         self.live_sessions = 0
         self.live_hosts = Hosts(settings.max_live)
 
@@ -64,6 +67,12 @@ class Work:
                 self.pool = self._pool(self.settings.workers)
                 raise Busy("a worker stopped unexpectedly; try again") from None
 
+    async def render(self, function: Callable[..., T], *args: Any) -> T:
+        """``function(*args)`` on a render thread of this process (an edit's render, which holds its prepared clone), past
+        the gate."""
+        with self.gate:
+            return await asyncio.get_running_loop().run_in_executor(self.renders, function, *args)
+
     def close(self) -> None:
         """Stop the workers and remove the temporary folder. The requests have been answered by then (uvicorn waits for
         them); a video job still queued is cancelled, and one still running is stopped: its result would go with the
@@ -75,6 +84,7 @@ class Work:
                 process.terminate()
                 process.join()
         self.live_hosts.close()
+        self.renders.shutdown(wait=False, cancel_futures=True)
         shutil.rmtree(self.folder, ignore_errors=True)
 
 

@@ -29,6 +29,7 @@ from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 
 if TYPE_CHECKING:
     from ..drive import Recording
+    from ..pipeline.cloner import Prepared
 
 #: photos whose landmarks a worker remembers.
 LANDMARK_CACHE = 256
@@ -180,6 +181,28 @@ def clone(request: CloneRequest, extension: str = ".png") -> tuple[bytes, dict[s
     placed = str(options.landmarker) if any(given is None for given in sent) else None
     record = result_record(replace(result, landmarker=placed), inputs_of(request))
     return encode_image(result.image, extension), record
+
+
+def prepare_edit(request: CloneRequest, preview: int) -> tuple[Prepared, Prepared, dict[str, str], str | None]:
+    """``POST /api/edits``: the clone prepared at the target photo's size and at ``preview`` pixels (its longest side),
+    the second with the first's landmarks (scaled) and lambda_k, so that both show the same clone; what the photos were
+    and which landmarker placed landmarks, for the records (:mod:`exprclone.server.edits`)."""
+    from ..drive.framing import resize_portrait
+    from ..pipeline.clone import prepare
+
+    images, points, options = _inputs(request)
+    full = prepare(*images, landmarks=points, options=options)
+    sent = [given for photo, given in zip(request.photos, request.landmarks) if photo is not None]
+    placed = str(options.landmarker) if any(given is None for given in sent) else None
+    if preview >= max(images[2].shape[:2]):
+        return full, full, inputs_of(request), placed
+    lambda_k = full.shapes[full.methods[0].shape].lambda_k
+    target, target_points = resize_portrait(images[2], points[2], preview)
+    ratio = np.array(target.shape[1::-1]) / images[2].shape[1::-1]
+    given = None if options.global_landmarks is None else options.global_landmarks * ratio
+    small = replace(options, lambda_k=options.lambda_k if lambda_k is None else lambda_k, global_landmarks=given)
+    shown = prepare(images[0], images[1], target, landmarks=(points[0], points[1], target_points), options=small)
+    return full, shown, inputs_of(request), placed
 
 
 def compare(request: CloneRequest, extension: str = ".png") -> bytes:

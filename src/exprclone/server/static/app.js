@@ -147,18 +147,20 @@ function showLambda() {
 }
 $("#lambda-auto").addEventListener("change", showLambda);
 $("#lambda").addEventListener("input", showLambda);
-$("#strength").addEventListener("input", () => { $("#strength-value").textContent = $("#strength").value; });
 
-// the options of exprclone.options.Options and the landmarker, as form fields; every region checked is the whole face
+// --- strengths: a preview follows a slider as it moves, the full size comes when it is let go ------------------------
+makeStrengths(() => { asked = performance.now(); refresh("preview"); }, () => refresh("full"));
+
+function addStrengths(form) {
+  for (const [option, value] of Object.entries(strengthsAsked())) form.append(option, value);
+}
+
+// the options of exprclone.options.Options and the landmarker, as form fields
 function addTransfer(form, withGiven) {
   form.append("landmarker", $("#landmarker").value);
   if ($("#global-warp").value) form.append("global_warp", $("#global-warp").value);
   form.append("image_warp", $("#image-warp").value);
-  form.append("strength", $("#strength").value);
-  const regions = [...document.querySelectorAll(".region")];
-  const checked = regions.filter((box) => box.checked).map((box) => box.value);
-  if (!checked.length) throw new Error("only: check at least one region");
-  if (checked.length < regions.length) form.append("only", checked.join(","));
+  addStrengths(form);
   form.append("retarget", $("#retarget").checked ? "true" : "false");
   if (withGiven && fileOf("global_landmarks")) form.append("global_landmarks", fileOf("global_landmarks"));
 }
@@ -178,33 +180,94 @@ function cloneForm(withMethod) {
   return form;
 }
 
-// --- clone and compare --------------------------------------------------------------------
+// --- clone: a prepared clone (an edit) on the server, rendered again as the sliders move -------------------------------
 let shown = { result: null, before: null };
+let edit = null; // the server's prepared clone: {id, render, ...} (POST /api/edits)
+let wanted = null; // the render asked for next: "preview" or "full"
+let rendering = false;
+let asked = 0; // when the newest slider value was set (performance.now())
+window.previewTimes = []; // milliseconds from a slider's change to its preview on screen (benchmarks/sliders.py reads them)
+
+function forget() {
+  if (edit) fetch(`/api/edits/${edit.id}`, { method: "DELETE", keepalive: true }).catch(() => {});
+  edit = null;
+}
+window.addEventListener("pagehide", forget);
+
+function caption(record) {
+  const lambda = record.lambda_k === null ? "" : `, λk = ${record.lambda_k}`;
+  const o = record.options;
+  const regions = Object.entries(o.region_strengths).filter(([, s]) => s !== o.strength).map(([r, s]) => `${r} ${s}`);
+  const how = [o.global_warp !== "similarity" ? `global warp ${o.global_warp}` : "", o.image_warp !== "mesh" ? o.image_warp : "",
+    o.strength !== 1 ? `strength ${o.strength}` : "", ...regions, o.strength_shading !== 1 ? `shading ${o.strength_shading}` : "",
+    o.retarget ? "" : "no retarget", record.landmarker && record.landmarker !== "dlib" ? `${record.landmarker} landmarks` : ""];
+  const source = builtIn() ? `, expression ${$("#expression").value}` : "";
+  return `${record.method}${source}${lambda}${how.filter(Boolean).map((h) => `, ${h}`).join("")}. `;
+}
+
+// the result on screen (unless "before" is shown: then the toggle shows it), once the browser has decoded it
+function showImage(src) {
+  const img = $("#result");
+  if ($("#toggle").getAttribute("aria-pressed") === "true") return Promise.resolve();
+  return new Promise((resolve) => { img.onload = resolve; img.onerror = resolve; img.src = src; });
+}
+
+// render the edit at "preview" or "full" size with the sliders' values; only the newest request waits its turn
+async function renderEdit(size) {
+  const form = new FormData();
+  addStrengths(form);
+  const values = Object.fromEntries(form.entries());
+  const since = asked;
+  if (size === "preview") {
+    const blob = await (await call(`${edit.render}?preview=true`, { method: "POST", body: form })).blob();
+    if (shown.preview) URL.revokeObjectURL(shown.preview);
+    shown.preview = shown.result = URL.createObjectURL(blob);
+    await showImage(shown.result);
+    window.previewTimes.push(performance.now() - since);
+  } else {
+    const record = await (await call(`${edit.render}?preview=false&format=json`, { method: "POST", body: form })).json();
+    shown.result = `data:image/png;base64,${record.png}`;
+    delete record.png;
+    await showImage(shown.result);
+    $("#result-caption").textContent = caption(record);
+    $("#download-png").href = shown.result;
+    $("#download-json").href = URL.createObjectURL(new Blob([JSON.stringify(record, null, 1)], { type: "application/json" }));
+  }
+  $("#result").dataset.rendered = JSON.stringify({ size, ...values });
+}
+
+async function refresh(size) {
+  if (!edit) return;
+  wanted = wanted === "full" && size === "preview" ? "full" : size;
+  if (rendering) return;
+  rendering = true;
+  try {
+    while (wanted && edit) {
+      const next = wanted;
+      wanted = null;
+      await renderEdit(next);
+    }
+  } catch (e) {
+    say(e.status === 404 ? "the prepared clone has expired: press Clone again" : e.message);
+  } finally {
+    rendering = false;
+  }
+}
 
 $("#clone").addEventListener("click", async () => {
   say("");
   warn([]);
   busy(true);
   try {
-    const record = await (await call("/api/clone?format=json", { method: "POST", body: cloneForm(true) })).json();
-    const png = `data:image/png;base64,${record.png}`;
-    delete record.png;
-    shown = { result: png, before: URL.createObjectURL(fileOf("target_neutral")) };
-    $("#result").src = png;
+    forget();
+    edit = await (await call("/api/edits", { method: "POST", body: cloneForm(true) })).json();
+    shown.before = URL.createObjectURL(fileOf("target_neutral"));
     $("#before").src = shown.before;
     $("#toggle").setAttribute("aria-pressed", "false");
     $("#toggle").textContent = "Show before";
-    const lambda = record.lambda_k === null ? "" : `, λk = ${record.lambda_k}`;
-    const o = record.options;
-    const how = [o.global_warp !== "similarity" ? `global warp ${o.global_warp}` : "", o.image_warp !== "mesh" ? o.image_warp : "",
-      o.strength !== 1 ? `strength ${o.strength}` : "", o.only ? `only ${o.only.join(", ")}` : "", o.retarget ? "" : "no retarget",
-      record.landmarker && record.landmarker !== "dlib" ? `${record.landmarker} landmarks` : ""].filter(Boolean);
-    const source = builtIn() ? `, expression ${$("#expression").value}` : "";
-    $("#result-caption").textContent = `${record.method}${source}${lambda}${how.map((h) => `, ${h}`).join("")}. `;
-    $("#download-png").href = png;
-    $("#download-json").href = URL.createObjectURL(new Blob([JSON.stringify(record, null, 1)], { type: "application/json" }));
+    await renderEdit("full");
     $("#result-box").hidden = false;
-    warn(record.warnings || []);
+    warn(edit.warnings);
   } catch (e) {
     say(e.message);
   } finally {

@@ -160,17 +160,15 @@ function stop(message) {
 $("#start").addEventListener("click", start);
 $("#stop").addEventListener("click", () => stop());
 $("#neutral").addEventListener("click", () => socket && socket.send(JSON.stringify({ type: "neutral" })));
-// the method, the teeth switch, strength and regions (every region checked is the whole face)
+// the method, the teeth switch and every strength (a region's as its slider shows it: the whole one's until moved)
 function choices() {
-  const checked = [...document.querySelectorAll(".region")].filter((box) => box.checked).map((box) => box.value);
-  const only = checked.length === document.querySelectorAll(".region").length ? null : checked;
-  return { method: $("#method").value, mouth: $("#mouth").checked, strength: Number($("#strength").value), only };
+  const strengths = Object.fromEntries(strengthSliders().map((slider) => [slider.dataset.option, Number(slider.value)]));
+  return { method: $("#method").value, mouth: $("#mouth").checked, ...strengths };
 }
 
-$("#strength").addEventListener("input", () => { $("#strength-value").textContent = $("#strength").value; });
-for (const control of [$("#method"), $("#mouth"), $("#strength"), ...document.querySelectorAll(".region")]) {
-  control.addEventListener("change", () => socket && socket.send(JSON.stringify({ type: "options", ...choices() })));
-}
+const sendChoices = () => socket && socket.send(JSON.stringify({ type: "options", ...choices() }));
+makeStrengths(() => {}, sendChoices);
+for (const control of [$("#method"), $("#mouth")]) control.addEventListener("change", sendChoices);
 
 $("#record").addEventListener("click", () => {
   if (recorder && recorder.state === "recording") return recorder.stop();
