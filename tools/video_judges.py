@@ -1,0 +1,232 @@
+"""Judges of driven video: the teeth's light, the lips' rim, steadiness and motion, beside the driver's or the portrait's own.
+
+    python tools/video_judges.py [--data ../shared/data] [--portraits 083 112 ...] [--clips lbax4n ...] [--size 512]
+                                 [--method e+md] [--jobs 2]
+
+Every GRID clip drives each portrait (a London neutral photo scaled to ``--size``, the
+neutral frame "closed", as ``exprclone video`` does). The default portraits are the three
+palest and the three darkest of the London Set by their cheeks' L*
+(``tools/colour_check.py --lightness``). For each clip x portrait:
+
+- teeth: on the frames where teeth are in sight (the brightest tenth of the output's
+  mouth interior, inside its final inner lips, lighter in L* than its cheeks), their
+  yellowness, the b* of that brightest tenth minus the cheeks' b*, and their lightness (the
+  same in L*); beside the same measures on the portrait person's own smiling photo, when
+  it shows teeth. The judge: yellowness within :data:`TEETH_YELLOW` of the own.
+- lips: the lip band's (between the outer and inner lips) L*, its fall from the portrait's
+  neutral band, over the frames whose mouth is open, beside the driver's own fall from its
+  neutral frame. The judge: at most the driver's plus :data:`LIP_DARKER`.
+- steadiness: the jitter of the mouth's landmarks (the mean length of their second difference
+  over time, in eye distances, as :func:`exprclone.drive.tracking.jitter`) on the frames where
+  the driver's head is still (its rigid landmarks move less than :data:`STILL` eye distances
+  a frame), the landmarks found afresh on every frame of the output and of the driver; and the
+  flicker of the mouth interior, the mean change from a frame to the next of the interior's
+  mean (a*, b*), beside the driver's own interior's. The judges: each at most the driver's.
+- motion: the correlation over time of the mouth opening (:func:`exprclone.mouth.measure.opening`),
+  the driver's against the output's, both from landmarks found afresh on each frame; and, for
+  diagnosis, the same with the output's rendered geometry (its final landmarks) in place of
+  what the detector finds on it (where the two part, the detector fails on the output: a
+  dark face small in the frame).
+
+Prints a row per clip x portrait, then each judge's count of cases held and its worst case.
+"""
+
+from __future__ import annotations
+
+import argparse
+import concurrent.futures
+import contextlib
+import os
+from pathlib import Path
+
+import cv2
+import numpy as np
+from colour_check import inner_mask, regions, skin_lightness, steps
+
+#: the teeth's yellowness (b* over the cheeks') may differ from the portrait's own real teeth by this much.
+TEETH_YELLOW = 4.0
+#: the lip band may darken this much more (L*) than the driver's own.
+LIP_DARKER = 3.0
+#: a frame shows teeth when its brightest tenth inside the inner lips is lighter than the cheeks.
+TEETH_TOP = 0.10
+#: frames with teeth in sight a case needs to be judged on its teeth.
+TEETH_FRAMES = 3
+#: the driver's head is still when its rigid landmarks move less than this (eye distances) from a frame to the next.
+STILL = 0.01
+
+
+def still_jitter(points: np.ndarray, indices: tuple[int, ...], still: np.ndarray) -> float:
+    """:func:`exprclone.drive.tracking.jitter` of ``points`` (T, N, 2) over the frames whose neighbours are all ``still``."""
+    from exprclone.landmarks.layout import DLIB68
+
+    chosen = points[:, list(indices)]
+    i, j = DLIB68.eye_corners
+    iod = np.linalg.norm(points[:, j] - points[:, i], axis=1).mean()
+    second = np.linalg.norm(chosen[2:] - 2 * chosen[1:-1] + chosen[:-2], axis=2).mean(1)
+    kept = still[2:] & still[1:-1] & still[:-2]
+    return float(second[kept].mean() / iod) if kept.any() else np.nan
+
+
+def lab(pixels: np.ndarray) -> np.ndarray:
+    """CIELAB of uint8 sRGB pixels ``(K, 3)`` (D65), ``(K, 3)``."""
+    return cv2.cvtColor(pixels.reshape(-1, 1, 3).astype(np.float32) / 255.0, cv2.COLOR_RGB2LAB).reshape(-1, 3)
+
+
+def teeth(image: np.ndarray, landmarks: np.ndarray) -> tuple[float, float] | None:
+    """(yellowness, lightness) of the teeth over the cheeks, in b* and L*; None when no teeth are in sight."""
+    inside = lab(image[inner_mask(image.shape, landmarks)])
+    if len(inside) < 10:
+        return None
+    top = inside[inside[:, 0] >= np.percentile(inside[:, 0], 100 * (1 - TEETH_TOP))].mean(0)
+    cheeks = lab(image[regions(image.shape, landmarks)["cheeks"]]).mean(0)
+    return None if top[0] <= cheeks[0] else (float(top[2] - cheeks[2]), float(top[0] - cheeks[0]))
+
+
+def lip_band(image: np.ndarray, landmarks: np.ndarray) -> float:
+    """Mean L* of the lip band: inside the outer lips, outside the inner ones."""
+    from exprclone.landmarks.layout import DLIB68
+
+    outer = np.zeros(image.shape[:2], np.uint8)
+    cv2.fillPoly(outer, [np.round(landmarks[list(DLIB68.mouth_outer)]).astype(np.int32)], 1)
+    return float(lab(image[(outer > 0) & ~inner_mask(image.shape, landmarks)])[:, 0].mean())
+
+
+def afresh(images: list[np.ndarray], known: list[np.ndarray] | np.ndarray) -> np.ndarray:
+    """The landmarks of each image found by the detector on it alone, ``(T, 68, 2)``; where it finds no face, ``known``'s."""
+    from exprclone.errors import ExprCloneError
+    from exprclone.landmarks.backends import default_detector
+
+    detect, found = default_detector().detect, []
+    for image, fallback in zip(images, known):
+        try:
+            found.append(detect(image))
+        except ExprCloneError:
+            found.append(fallback)
+    return np.array(found)
+
+
+def judge(case: tuple[Path, str, Path, int, str]) -> dict:
+    """One clip driving one portrait: every measure of the module's notes."""
+    from exprclone import drive
+    from exprclone.drive.framing import resize_portrait
+    from exprclone.io.images import load_image
+    from exprclone.io.video import probe, read_frames
+    from exprclone.landmarks import lips
+    from exprclone.landmarks.backends import default_detector
+    from exprclone.landmarks.layout import DLIB68
+    from exprclone.mouth import measure
+
+    data, face, clip, size, method = case
+    portrait = resize_portrait(load_image(data / "london/neutral_front" / f"{face}_03.jpg"), None, size)[0]
+    detect = default_detector().detect
+    portrait_points = detect(portrait)
+    smile = resize_portrait(load_image(data / "london/smiling_front" / f"{face}_08.jpg"), None, size)[0]
+    own = teeth(smile, lips.uncross(detect(smile), DLIB68))
+    recording = drive.prepare(
+        portrait, portrait_points, lambda: read_frames(clip), float(probe(clip).fps), neutral_frame="closed", method=method
+    )
+    driver_points = recording.points
+    neutral = recording.neutral_index
+    frames = list(read_frames(clip))
+    driver_band = lip_band(frames[neutral], driver_points[neutral])
+    portrait_band = lip_band(portrait, portrait_points)
+    seen, falls, driver_falls, outputs, finals, inner, driver_inner = [], [], [], [], [], [], []
+    for f in recording.frames(iter(frames)):
+        final, points = f.result.landmarks["final"], driver_points[f.index]
+        outputs.append(f.image)
+        finals.append(final)
+        opened = measure.opening(final, DLIB68) >= measure.OPENING[0]
+        if (t := teeth(f.image, final)) is not None:
+            seen.append(t)
+        if opened:
+            falls.append(portrait_band - lip_band(f.image, final))
+            driver_falls.append(driver_band - lip_band(f.driving, points))
+        inner.append(lab(f.image[inner_mask(f.image.shape, final)])[:, 1:].mean(0) if opened else None)
+        driver_inner.append(lab(f.driving[inner_mask(f.driving.shape, points)])[:, 1:].mean(0) if opened else None)
+    mouth = DLIB68.mouth_outer + DLIB68.mouth_inner
+    found = afresh(outputs, finals)  # the output's and the driver's landmarks found on every frame
+    driver_found = afresh(frames, driver_points)
+    rigid = driver_found[:, list(DLIB68.rigid)]
+    iod = np.linalg.norm(driver_found[:, DLIB68.eye_corners[1]] - driver_found[:, DLIB68.eye_corners[0]], axis=1).mean()
+    still = np.r_[True, np.linalg.norm(np.diff(rigid, axis=0), axis=2).mean(1) / iod < STILL]
+    opening, driver_opening = ([measure.opening(p, DLIB68) for p in points] for points in (found, driver_found))
+    rendered = [measure.opening(p, DLIB68) for p in finals]
+    yellow = float(np.mean([s[0] for s in seen])) if seen else np.nan
+    return {
+        "clip": clip.stem,
+        "portrait": face,
+        "teeth_frames": len(seen),
+        "yellow": yellow,
+        "light": float(np.mean([s[1] for s in seen])) if seen else np.nan,
+        "own_yellow": own[0] if own else np.nan,
+        "own_light": own[1] if own else np.nan,
+        "lip_fall": float(np.mean(falls)) if falls else np.nan,
+        "driver_lip_fall": float(np.mean(driver_falls)) if driver_falls else np.nan,
+        "still": int(still.sum()),
+        "jitter": still_jitter(found, mouth, still),
+        "driver_jitter": still_jitter(driver_found, mouth, still),
+        "flicker": steps(inner),
+        "driver_flicker": steps(driver_inner),
+        "correlation": float(np.corrcoef(opening, driver_opening)[0, 1]),
+        "rendered_correlation": float(np.corrcoef(rendered, driver_opening)[0, 1]),
+    }
+
+
+def verdicts(row: dict) -> dict[str, bool | None]:
+    """Each judge's verdict on a case (None: not judged, such as teeth never in sight or no own teeth)."""
+    teeth_judged = row["teeth_frames"] >= TEETH_FRAMES and np.isfinite(row["own_yellow"])
+    return {
+        "teeth": bool(abs(row["yellow"] - row["own_yellow"]) <= TEETH_YELLOW) if teeth_judged else None,
+        "lips": bool(row["lip_fall"] <= row["driver_lip_fall"] + LIP_DARKER) if np.isfinite(row["lip_fall"]) else None,
+        "jitter": bool(row["jitter"] <= row["driver_jitter"]) if np.isfinite(row["jitter"]) else None,
+        "flicker": bool(row["flicker"] <= row["driver_flicker"]) if np.isfinite(row["flicker"]) else None,
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+    parser.add_argument("--portraits", nargs="*", help="London ids (default: the three palest and the three darkest)")
+    parser.add_argument("--clips", nargs="*", help="GRID clip names (default: all)")
+    parser.add_argument("--size", type=int, default=512)
+    parser.add_argument("--method", default="e+md")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    args = parser.parse_args()
+    data = Path(args.data)
+    if args.portraits:
+        portraits = args.portraits
+    else:
+        ranked = [face for face, _ in skin_lightness(data)]
+        portraits = ranked[:3] + ranked[-3:]
+    clips = [p for p in sorted((data / "grid").glob("*.mpg")) if not args.clips or p.stem in args.clips]
+    cases = [(data, face, clip, args.size, args.method) for face in portraits for clip in clips]
+    print(f"exprclone video judges: {args.method} at {args.size} px, portraits {' '.join(portraits)}, {len(clips)} GRID clips\n")
+    print("clip | portrait | teeth frames | yellowness (own) | lightness (own) | lip fall (driver's) | ", end="")
+    print("jitter (driver's) | flicker (driver's) | opening r (rendered)")
+    print("---|---|---|---|---|---|---|---|---")
+    rows = []
+    with concurrent.futures.ProcessPoolExecutor(args.jobs) if args.jobs > 1 else contextlib.nullcontext() as pool:
+        for row in (pool.map if pool else map)(judge, cases):
+            rows.append(row)
+            cells = [row["clip"], row["portrait"], str(row["teeth_frames"])]
+            cells += [f"{row['yellow']:.1f} ({row['own_yellow']:.1f})", f"{row['light']:.1f} ({row['own_light']:.1f})"]
+            cells += [f"{row['lip_fall']:.1f} ({row['driver_lip_fall']:.1f})"]
+            cells += [f"{1000 * row['jitter']:.2f} ({1000 * row['driver_jitter']:.2f})"]
+            cells += [f"{row['flicker']:.2f} ({row['driver_flicker']:.2f})"]
+            cells += [f"{row['correlation']:.2f} ({row['rendered_correlation']:.2f})"]
+            print(" | ".join(cells), flush=True)
+    print("\njitter in thousandths of an eye distance; yellowness and lightness over the cheeks, in b* and L*")
+    said = [verdicts(r) for r in rows]
+    for name in ("teeth", "lips", "jitter", "flicker"):
+        judged = [(r, v[name]) for r, v in zip(rows, said) if v[name] is not None]
+        held = sum(ok for _, ok in judged)
+        print(f"{name}: held on {held} of {len(judged)} cases judged", end="")
+        failed = [f"{r['clip']}x{r['portrait']}" for r, ok in judged if not ok]
+        print(f" (not on {', '.join(failed[:8])}{', ...' if len(failed) > 8 else ''})" if failed else "")
+    for name in ("correlation", "rendered_correlation"):
+        values = [r[name] for r in rows]
+        print(f"opening {name.replace('_', ' ')}: median {np.median(values):.2f}, least {min(values):.2f}")
+
+
+if __name__ == "__main__":
+    main()
