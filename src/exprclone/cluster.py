@@ -1,7 +1,9 @@
-"""A Dask cluster as exprclone uses it (``batch --scheduler``): a client of its scheduler, and a worker's memory.
+"""A Dask cluster as exprclone uses it (``batch --scheduler``, ``serve --scheduler``): a client of its scheduler, and a
+worker's memory.
 
-A command connects here (:func:`connect`), so that Dask missing, or a scheduler that
-cannot be reached, is the same one-line error naming ``--scheduler`` everywhere.
+Both commands connect here (:func:`connect`, or :func:`connect_async` from an event loop),
+so that Dask missing, or a scheduler that cannot be reached, is the same one-line error
+naming ``--scheduler`` everywhere.
 
 A clone at 1350 pixels allocates and frees buffers of 22 MB (a float image). glibc's
 malloc keeps such buffers in its heap after the first few are freed, unless a
@@ -47,6 +49,12 @@ def connect(scheduler: str) -> Any:
     """A ``distributed.Client`` connected to the scheduler at ``scheduler`` (``tcp://HOST:8786``), or ExprCloneError."""
     with _reaching(scheduler) as distributed:
         return distributed.Client(scheduler, timeout=CONNECT_TIMEOUT)
+
+
+async def connect_async(scheduler: str) -> Any:
+    """:func:`connect`'s client for the running event loop (``asynchronous=True``: its calls are awaited)."""
+    with _reaching(scheduler) as distributed:
+        return await distributed.Client(scheduler, timeout=CONNECT_TIMEOUT, asynchronous=True)
 
 
 @functools.cache

@@ -38,6 +38,8 @@ SAMPLES: dict[str, Callable[[], Path]] = {
     "portrait": lambda: samples.path(samples.TARGET),
     "driving_video": samples.clip,
 }
+#: a video job's result, as a download names it.
+MP4 = "exprclone.mp4"
 #: what the landmark files may be (their client file name's extension is the only part of it used).
 LANDMARK_EXTENSIONS = (".json", ".tem")
 
@@ -370,4 +372,7 @@ async def job_result(server: Server, job_id: str) -> Response:
         return JSONResponse(
             {"error": f"job {job_id}: {state['state']}" + (f" ({state['error']})" if state["error"] else "")}, status_code=409
         )
-    return FileResponse(await server.backend.video_result(job_id), media_type="video/mp4", filename="exprclone.mp4")
+    result = await server.backend.video_result(job_id)
+    if isinstance(result, Path):
+        return FileResponse(result, media_type="video/mp4", filename=MP4)
+    return Response(result, media_type="video/mp4", headers={"Content-Disposition": f'attachment; filename="{MP4}"'})

@@ -1,5 +1,9 @@
-"""Where ``exprclone serve`` works (:class:`Processes`): pools of worker processes on its own machine, and its video
-jobs in its temporary folder."""
+"""Where a plain ``exprclone serve`` works (:class:`Processes`): pools of worker processes on its own machine, and its
+video jobs in its temporary folder.
+
+The other place is a Dask cluster (``serve --scheduler``, :class:`exprclone.server.cluster.Cluster`); both offer the
+server the same calls.
+"""
 
 from __future__ import annotations
 

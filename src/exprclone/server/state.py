@@ -9,7 +9,7 @@ from __future__ import annotations
 import asyncio
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
-from typing import Annotated, Any, TypeVar
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 from fastapi import Depends
 from starlette.requests import HTTPConnection
@@ -20,6 +20,9 @@ from .processes import Processes
 from .rendering import Hosts
 from .settings import Settings
 
+if TYPE_CHECKING:
+    from .cluster import Cluster
+
 T = TypeVar("T")
 
 
@@ -29,21 +32,28 @@ class Work:
 
     Attributes
     ----------
-    backend : Processes
-        The server's own worker processes (:class:`~exprclone.server.processes.Processes`).
+    backend : Processes or Cluster
+        The server's own worker processes (:class:`~exprclone.server.processes.Processes`), or with
+        ``settings.scheduler`` a Dask cluster (:class:`~exprclone.server.cluster.Cluster`).
     """
 
     def __init__(self, settings: Settings) -> None:
         self.settings = settings
         self.gate = Gate(settings.workers + settings.queue)
-        self.backend = Processes(settings, self.gate)
+        self.backend: Processes | Cluster
+        if settings.scheduler is None:
+            self.backend = Processes(settings, self.gate)
+        else:
+            from .cluster import Cluster  # (Dask, an extra, is loaded only by a server that uses it)
+
+            self.backend = Cluster(settings)
         self.edits = Edits(settings.max_edits, settings.edit_ttl)
         self.renders = ThreadPoolExecutor(settings.workers, thread_name_prefix="render")  # edits render in this process
         self.live_sessions = 0
         self.live_hosts = Hosts(settings.max_live)
 
     async def start(self) -> None:
-        """Start the workers now (each loads the models as it starts)."""
+        """Start the workers now (each loads the models as it starts), or connect to the cluster."""
         await self.backend.start()
 
     async def run(self, function: Callable[..., T], *args: Any) -> T:
@@ -57,7 +67,7 @@ class Work:
             return await asyncio.get_running_loop().run_in_executor(self.renders, function, *args)
 
     async def close(self) -> None:
-        """Stop the workers and the live hosts. The requests have been answered by then (uvicorn
+        """Stop the workers (or leave the cluster) and the live hosts. The requests have been answered by then (uvicorn
         waits for them)."""
         await self.backend.close()
         self.live_hosts.close()

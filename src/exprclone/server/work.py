@@ -1,22 +1,28 @@
-"""The server's CPU work, run in worker processes that load the models once.
+"""The server's CPU work, run in worker processes that load the models once: the server's own, or a Dask cluster's
+(``serve --scheduler``, :mod:`exprclone.server.cluster`).
 
 Each function takes small, picklable arguments (the uploaded bytes and the options) and
 returns encoded results, so that only files cross between the web process and its
-workers. A worker remembers the landmarks of the photos it has seen, by the SHA-256 of
+workers. A driving video is a file in a job's folder for the server's own workers, and
+its bytes for a cluster's (:func:`probe_sent`, :func:`video_sent`), whose workers cannot
+read the web process's files. A worker remembers the landmarks of the photos it has seen, by the SHA-256 of
 their bytes and the landmarker: a portrait sent again with another expression is not
 detected again.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
+import tempfile
 import warnings
 from collections import OrderedDict
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from fractions import Fraction
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -292,3 +298,27 @@ def _reporting(recording: Recording, frames: Iterator[np.ndarray], request: Vide
         if done % PROGRESS_EVERY == 0 or done == total:
             report(done, total)
         yield side_by_side(f.driving, f.image) if request.framing.side_by_side else f.image
+
+
+@contextlib.contextmanager
+def _received(content: bytes) -> Iterator[Path]:
+    """``content`` saved in a folder of this worker's own, as ``driving``: a driving video sent as bytes (a worker on a
+    cluster cannot read the web process's files); the folder is removed after."""
+    with tempfile.TemporaryDirectory(prefix="exprclone-job-") as folder:
+        path = Path(folder) / "driving"
+        path.write_bytes(content)
+        yield path
+
+
+def probe_sent(content: bytes, limits: Limits) -> Fraction:
+    """:func:`probe_video` of a driving video sent as bytes (on a Dask cluster)."""
+    with _received(content) as path:
+        return probe_video(str(path), limits)
+
+
+def video_sent(request: VideoRequest, content: bytes, fps: Fraction, report: Report) -> tuple[dict[str, Any], bytes]:
+    """:func:`video` of a driving video sent as bytes (on a Dask cluster): what it returns, and the MP4's bytes."""
+    with _received(content) as path:
+        clip = Clip(str(path), fps, str(path.with_name("result.mp4")))
+        info = video(request, clip, report)
+        return info, Path(clip.output).read_bytes()
