@@ -15,7 +15,7 @@ import httpx
 import numpy as np
 import pytest
 from PIL import Image
-from serving import Server
+from serving import Server, nginx
 
 import exprclone
 from exprclone import data as samples
@@ -136,6 +136,20 @@ def test_a_lost_worker_fails_its_request_and_the_next_one_is_answered(cluster, s
         r = asked.result()
     assert r.status_code == 503 and r.json() == {"error": "a worker stopped unexpectedly; try again"} and r.headers["Retry-After"] == "2"
     assert httpx.post(f"{a}/api/landmarks", files={"photo": files["target_neutral"]}, timeout=120).status_code == 200
+
+
+def test_behind_the_shipped_proxy_any_server_answers_a_job_and_one_a_clients_edits(servers, done_job, tmp_path):
+    job, state = done_job
+    with nginx(tmp_path, [int(url.rsplit(":", 1)[1]) for url in servers]) as proxy:
+        for _ in range(2):  # the proxy sends them to each server in turn
+            assert httpx.get(f"{proxy}{job['status']}", timeout=30).json() == state
+            assert httpx.get(f"{proxy}{job['result']}", timeout=60).headers["content-type"] == "video/mp4"
+        photos = {field: (path.name, path.read_bytes()) for field, path in PHOTOS.items()}
+        made = httpx.post(f"{proxy}/api/edits", files=photos, timeout=120)
+        assert made.status_code == 201, made.text
+        for strength in ("0.25", "0.5", "0.75", "1.25"):  # each to the server that prepared it
+            r = httpx.post(f"{proxy}{made.json()['render']}", data={"strength": strength}, timeout=60)
+            assert r.status_code == 200 and r.headers["content-type"] == "image/jpeg", r.text
 
 
 def test_a_scheduler_that_cannot_be_reached_is_one_line():
