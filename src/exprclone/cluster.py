@@ -52,9 +52,10 @@ def connect(scheduler: str) -> Any:
 
 
 async def connect_async(scheduler: str) -> Any:
-    """:func:`connect`'s client for the running event loop (``asynchronous=True``: its calls are awaited)."""
+    """:func:`connect`'s client for the running event loop (``asynchronous=True``: its calls are awaited), which fetches
+    results from the workers directly, not through the scheduler (a server's are images and videos)."""
     with _reaching(scheduler) as distributed:
-        return await distributed.Client(scheduler, timeout=CONNECT_TIMEOUT, asynchronous=True)
+        return await distributed.Client(scheduler, timeout=CONNECT_TIMEOUT, asynchronous=True, direct_to_workers=True)
 
 
 @functools.cache
