@@ -1,6 +1,7 @@
 """Latency, throughput and memory of ``exprclone serve``'s POST /api/clone, on the real server.
 
     python benchmarks/serve.py [--data ../shared/data] [--requests 60] [--workers 2]
+    python benchmarks/serve.py --scheduler [--data ../shared/data] [--requests 60]
 
 Starts the server (``--workers``), then at 512 and 1350 pixels sends London pairs of
 photos (20 ordered pairs of different people, seed 0; at 512 the photos are shrunk and
@@ -19,11 +20,25 @@ load): the naive scikit-image warp of the same target photo, ``PiecewiseAffineTr
 estimated on the clone's mesh (landmarks, forehead and border points) and
 ``skimage.transform.warp`` of the whole photo (bilinear), as :mod:`run` measures it; the ratio
 of the server's p50 to the peer's median is printed.
+
+With ``--scheduler``, the server on a Dask cluster (``serve --scheduler``), each started as
+the deploy docs say (``dask scheduler``, ``dask worker --nworkers N --nthreads 1``), on this
+machine: a cluster of 1 worker process and one of 2, each with a server, and the plain
+server (``--workers 1``) beside them. At each size, once every worker has seen the photos
+(it remembers their landmarks: the plain server's after one pass of the pairs, the
+clusters' each told to place them), it prints:
+
+- the latency of one client's requests, sent in turn to the plain server and to the
+  server on the cluster of 1 worker (so that both see the same load), and the ratio of
+  their p50s;
+- the throughput of 4 concurrent clients on 1 worker and on 2, in turns of ``--requests``
+  requests (3 turns each), and the ratio of 2 workers' to 1's.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import io
 import os
 import signal
@@ -31,6 +46,7 @@ import socket
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -42,6 +58,8 @@ SIZES = (512, 1350)
 CLIENTS = (1, 2, 4)
 PAIRS = 20
 MEMORY_REQUESTS = 200
+#: ``--scheduler``: the concurrent clients whose throughput is measured, and the turns of each cluster.
+CLUSTER_CLIENTS, CLUSTER_TURNS = 4, 3
 
 
 def free_port() -> int:
@@ -123,14 +141,11 @@ def line(name: str, latencies: list[float], errors: int, wall: float) -> str:
     return f"  {name:34s} p50 {p50:6.0f} ms  p95 {p95:6.0f} ms  {len(latencies) / wall:5.2f} requests/s  errors {errors}"
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", "../shared/data")))
-    parser.add_argument("--requests", type=int, default=60)
-    parser.add_argument("--workers", type=int, default=2)
-    args = parser.parse_args()
+@contextlib.contextmanager
+def serving(*flags: str) -> Iterator[tuple[int, str]]:
+    """``exprclone serve FLAGS`` on a free port, until the block ends (then Ctrl-C): its PID and URL once it answers."""
     port = free_port()
-    server = subprocess.Popen([sys.executable, "-m", "exprclone", "serve", "--port", str(port), "--workers", str(args.workers)])
+    server = subprocess.Popen([sys.executable, "-m", "exprclone", "serve", "--port", str(port), *flags])
     url = f"http://127.0.0.1:{port}"
     try:
         while True:
@@ -139,6 +154,89 @@ def main() -> None:
                 break
             except httpx.TransportError:
                 time.sleep(0.2)
+        yield server.pid, url
+    finally:
+        os.kill(server.pid, signal.SIGINT)
+        server.wait(timeout=60)
+
+
+@contextlib.contextmanager
+def dask_cluster(workers: int) -> Iterator[str]:
+    """``dask scheduler`` and ``dask worker --nworkers WORKERS --nthreads 1`` on this machine, until the block ends: the
+    scheduler's address once its workers have joined."""
+    from distributed import Client
+
+    address = f"tcp://127.0.0.1:{free_port()}"
+    dask = [sys.executable, "-m", "dask"]
+    started = [subprocess.Popen([*dask, "scheduler", "--host", "127.0.0.1", "--port", address.rsplit(":", 1)[1], "--no-dashboard"])]
+    try:
+        started.append(subprocess.Popen([*dask, "worker", address, "--nworkers", str(workers), "--nthreads", "1", "--no-dashboard"]))
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(workers, timeout=120)
+        yield address
+    finally:
+        for process in reversed(started):
+            process.send_signal(signal.SIGINT)
+            process.wait(timeout=60)
+
+
+def seen(address: str, files: list[dict]) -> None:
+    """Every worker of the cluster at ``address`` places the landmarks of the photos of ``files`` (and remembers them)."""
+    from distributed import Client
+
+    from exprclone.landmarks.backends import DEFAULT
+    from exprclone.server import work
+
+    uploads = [work.Upload(field, content) for photos in files for field, (_, content) in photos.items()]
+    with Client(address, timeout=60) as client:
+        client.run(lambda: [work.landmarks(upload, None, DEFAULT) for upload in uploads])
+
+
+def on_clusters(args: argparse.Namespace) -> None:
+    """The ``--scheduler`` benchmark (see the module's notes)."""
+    with contextlib.ExitStack() as stack:
+        one, two = [stack.enter_context(dask_cluster(n)) for n in (1, 2)]
+        flags = ("--max-live", "0", "--queue", "8")
+        _, plain = stack.enter_context(serving("--workers", "1", *flags))
+        _, on_one = stack.enter_context(serving("--scheduler", one, "--workers", "1", *flags))
+        _, on_two = stack.enter_context(serving("--scheduler", two, "--workers", "2", *flags))
+        print(f"exprclone serve --scheduler benchmark: {os.cpu_count()} cores, POST /api/clone (e+md, PNG answer)")
+        for size in SIZES:
+            files = payloads(args.data, size)
+            print(f"\n{size}x{size} photos")
+            run(plain, files, len(files), 1)
+            for address in (one, two):
+                seen(address, files)
+            latencies: dict[str, list[float]] = {plain: [], on_one: []}
+            for k in range(args.requests):
+                for url in latencies:
+                    latencies[url] += run(url, files[k % len(files) :], 1, 1)[0]
+            p50 = {url: np.percentile(ms, 50) for url, ms in latencies.items()}
+            print(f"  1 client, in turn: plain server p50 {p50[plain]:.0f} ms, on a cluster {p50[on_one]:.0f} ms (1 worker each)")
+            print(f"  p50 on the cluster / on the plain server: {p50[on_one] / p50[plain]:.2f}x")
+            done: dict[str, list[tuple[list[float], int, float]]] = {on_one: [], on_two: []}
+            for _ in range(CLUSTER_TURNS):
+                for url in done:
+                    done[url].append(run(url, files, args.requests, CLUSTER_CLIENTS))
+            throughput = {}
+            for url, name in ((on_one, "1 worker"), (on_two, "2 workers")):
+                every = [ms for times, _, _ in done[url] for ms in times]
+                errors, wall = sum(e for _, e, _ in done[url]), sum(w for _, _, w in done[url])
+                throughput[url] = len(every) / wall
+                print(line(f"cluster of {name}, {CLUSTER_CLIENTS} clients", every, errors, wall))
+            print(f"  throughput on 2 workers / on 1: {throughput[on_two] / throughput[on_one]:.2f}x")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", "../shared/data")))
+    parser.add_argument("--requests", type=int, default=60)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--scheduler", action="store_true", help="the server on Dask clusters of 1 and 2 workers, against the plain server")
+    args = parser.parse_args()
+    if args.scheduler:
+        return on_clusters(args)
+    with serving("--workers", str(args.workers)) as (pid, url):
         print(f"exprclone serve benchmark: {os.cpu_count()} cores, {args.workers} workers, POST /api/clone (e+md, PNG answer)")
         for size in SIZES:
             files = payloads(args.data, size)
@@ -155,14 +253,11 @@ def main() -> None:
                 throughput[clients] = len(latencies) / wall
                 print(line(f"seen before, {clients} client{'s' * (clients > 1)}", latencies, errors, wall))
             print(f"  throughput with 4 clients / with 1: {throughput[4] / throughput[1]:.2f}x")
-        before = resident_mb(server.pid)
+        before = resident_mb(pid)
         latencies, errors, wall = run(url, payloads(args.data, 1350), MEMORY_REQUESTS, 4)
-        after = resident_mb(server.pid)
+        after = resident_mb(pid)
         print(f"\nmemory (server and workers, resident): {before:.0f} MB, then {after:.0f} MB after {MEMORY_REQUESTS} more at 1350 px")
         print(f"  ({100 * (after / before - 1):+.1f}%; those requests: {errors} errors)")
-    finally:
-        os.kill(server.pid, signal.SIGINT)
-        server.wait(timeout=60)
 
 
 if __name__ == "__main__":
