@@ -1,6 +1,7 @@
 """``exprclone serve --scheduler``: two servers on one Dask cluster of worker processes share its work and its jobs;
 a worker lost during a job fails the job, and the bound on jobs holds across the servers."""
 
+import asyncio
 import io
 import os
 import signal
@@ -150,6 +151,38 @@ def test_behind_the_shipped_proxy_any_server_answers_a_job_and_one_a_clients_edi
         for strength in ("0.25", "0.5", "0.75", "1.25"):  # each to the server that prepared it
             r = httpx.post(f"{proxy}{made.json()['render']}", data={"strength": strength}, timeout=60)
             assert r.status_code == 200 and r.headers["content-type"] == "image/jpeg", r.text
+
+
+def test_a_job_expires_with_its_names_on_the_scheduler(cluster):
+    """A done job is kept ``ttl`` seconds, then removed by the next listing: its dataset and its two Variables."""
+    from exprclone.cluster import connect_async
+    from exprclone.io.video import Limits
+    from exprclone.options import Driving, Framing, Options
+    from exprclone.server import work
+    from exprclone.server.shared_jobs import SharedJobs
+
+    running, client = cluster
+    limits = Limits(25_000_000, 120)
+    portrait = work.Upload("portrait", VIDEO["portrait"][1])
+    request = work.VideoRequest(portrait, Options(method="global"), Driving(), Framing(size=128), limits)
+
+    async def scenario() -> tuple[str, dict, dict]:
+        remote = await connect_async(running.scheduler_address)
+        jobs = SharedJobs(remote, limit=8, ttl=1)
+        try:
+            job_id = await jobs.submit(request, samples.clip().read_bytes(), work.probe_video(str(samples.clip()), limits))
+            while "ended" not in (report := (await jobs.reports())[job_id]):
+                await asyncio.sleep(0.1)
+            await asyncio.sleep(1.5)
+            return job_id, report, await jobs.reports()
+        finally:
+            jobs.close()
+            await remote.close()
+
+    job_id, report, after = asyncio.run(scenario())
+    assert report["info"]["frames"] == 75 and job_id not in after
+    names = client.run_on_scheduler(lambda dask_scheduler: list(dask_scheduler.extensions["variables"].variables))
+    assert not [name for name in [*names, *client.list_datasets()] if job_id in str(name)]
 
 
 def test_a_scheduler_that_cannot_be_reached_is_one_line():

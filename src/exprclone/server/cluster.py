@@ -112,5 +112,4 @@ class Cluster:
     async def close(self) -> None:
         """Leave the cluster; the jobs go on there (:meth:`exprclone.server.shared_jobs.SharedJobs.close`)."""
         self.jobs.close()
-        self.gate.refresh_callback.stop()  # (not its close: the other servers share it)
-        await self.client.close()
+        await self.client.close()  # (not the gate's close: the other servers share it)

@@ -40,7 +40,7 @@ from distributed.client import FutureCancelledError
 from . import work
 from .jobs import JOB_ID, NoSuchJob, answer, check_room, expired, job_error
 
-#: the start of a job's names on the scheduler (its dataset, its report); its id follows.
+#: the start of a job's names on the scheduler (its dataset, its ending and its progress); its id follows.
 PREFIX = "exprclone-job-"
 #: a job's error when the workers that ran it were lost, each while it ran.
 WORKER_LOST = "the job failed: its worker stopped unexpectedly while running it ({tries} tries on the cluster); submit it again"
@@ -48,7 +48,8 @@ WORKER_LOST = "the job failed: its worker stopped unexpectedly while running it 
 
 @dataclass(frozen=True)
 class Progress:
-    """A job's progress, written into its report by the worker that renders it (:data:`exprclone.server.work.Report`)."""
+    """A job's progress, written into its Variable ``name`` by the worker that renders it
+    (:data:`exprclone.server.work.Report`)."""
 
     name: str
 
