@@ -139,6 +139,19 @@ def test_a_lost_worker_fails_its_request_and_the_next_one_is_answered(cluster, s
     assert httpx.post(f"{a}/api/landmarks", files={"photo": files["target_neutral"]}, timeout=120).status_code == 200
 
 
+def test_every_worker_loads_the_models_once_as_it_joins(cluster, servers):
+    """The servers' worker plugin, registered by each, set up once on each worker (and on each that joins later: after
+    the tests above, the ones started in place of those killed)."""
+    _, client = cluster
+
+    def loaded(dask_worker) -> tuple[bool, int]:
+        from exprclone.geometry.eigenface import default_eigenfaces
+
+        return "exprclone-models" in dask_worker.plugins, default_eigenfaces.cache_info().currsize
+
+    assert set(client.run(loaded).values()) == {(True, 1)}
+
+
 def test_behind_the_shipped_proxy_any_server_answers_a_job_and_one_a_clients_edits(servers, done_job, tmp_path):
     job, state = done_job
     with nginx(tmp_path, [int(url.rsplit(":", 1)[1]) for url in servers]) as proxy:
