@@ -23,16 +23,17 @@ of the server's p50 to the peer's median is printed.
 
 With ``--scheduler``, the server on a Dask cluster (``serve --scheduler``), each started as
 the deploy docs say (``dask scheduler``, ``dask worker --nworkers N --nthreads 1``), on this
-machine: a cluster of 1 worker process and one of 2, each with a server, and the plain
-server (``--workers 1``) beside them. At each size, once every worker has seen the photos
-(it remembers their landmarks: the plain server's after one pass of the pairs, the
-clusters' each told to place them), it prints:
+machine: a cluster of 1 worker process and one of 2, each with a server, and beside them
+the plain server with 1 worker and with 2, its peer. At each size, once the workers have
+seen the photos (a worker remembers their landmarks: the clusters' each told to place them,
+the plain servers' after passes over the pairs), it prints:
 
 - the latency of one client's requests, sent in turn to the plain server and to the
-  server on the cluster of 1 worker (so that both see the same load), and the ratio of
-  their p50s;
-- the throughput of 4 concurrent clients on 1 worker and on 2, in turns of ``--requests``
-  requests (3 turns each), and the ratio of 2 workers' to 1's.
+  server on the cluster, 1 worker each (so that both see the same load), and the ratio
+  of their p50s;
+- the throughput of 4 concurrent clients on each server, in turns of ``--requests``
+  requests (3 turns each), and for each kind the ratio of 2 workers' to 1's: the plain
+  server's says what this machine allows.
 """
 
 from __future__ import annotations
@@ -58,8 +59,9 @@ SIZES = (512, 1350)
 CLIENTS = (1, 2, 4)
 PAIRS = 20
 MEMORY_REQUESTS = 200
-#: ``--scheduler``: the concurrent clients whose throughput is measured, and the turns of each cluster.
-CLUSTER_CLIENTS, CLUSTER_TURNS = 4, 3
+#: ``--scheduler``: the concurrent clients whose throughput is measured, the turns of each server, and the passes over
+#: the pairs before the plain server of 2 workers is measured.
+CLUSTER_CLIENTS, CLUSTER_TURNS, PLAIN_PASSES = 4, 3, 4
 
 
 def free_port() -> int:
@@ -197,34 +199,40 @@ def on_clusters(args: argparse.Namespace) -> None:
     with contextlib.ExitStack() as stack:
         one, two = [stack.enter_context(dask_cluster(n)) for n in (1, 2)]
         flags = ("--max-live", "0", "--queue", "8")
-        _, plain = stack.enter_context(serving("--workers", "1", *flags))
-        _, on_one = stack.enter_context(serving("--scheduler", one, "--workers", "1", *flags))
-        _, on_two = stack.enter_context(serving("--scheduler", two, "--workers", "2", *flags))
+        servers = {
+            ("plain server", 1): stack.enter_context(serving("--workers", "1", *flags))[1],
+            ("plain server", 2): stack.enter_context(serving("--workers", "2", *flags))[1],
+            ("cluster", 1): stack.enter_context(serving("--scheduler", one, "--workers", "1", *flags))[1],
+            ("cluster", 2): stack.enter_context(serving("--scheduler", two, "--workers", "2", *flags))[1],
+        }
         print(f"exprclone serve --scheduler benchmark: {os.cpu_count()} cores, POST /api/clone (e+md, PNG answer)")
         for size in SIZES:
             files = payloads(args.data, size)
             print(f"\n{size}x{size} photos")
-            run(plain, files, len(files), 1)
+            run(servers["plain server", 1], files, len(files), 1)
+            run(servers["plain server", 2], files, PLAIN_PASSES * len(files), CLUSTER_CLIENTS)  # (its pool's processes at random)
             for address in (one, two):
                 seen(address, files)
-            latencies: dict[str, list[float]] = {plain: [], on_one: []}
+            alone = {name: servers[name, 1] for name in ("plain server", "cluster")}
+            latencies: dict[str, list[float]] = {name: [] for name in alone}
             for k in range(args.requests):
-                for url in latencies:
-                    latencies[url] += run(url, files[k % len(files) :], 1, 1)[0]
-            p50 = {url: np.percentile(ms, 50) for url, ms in latencies.items()}
-            print(f"  1 client, in turn: plain server p50 {p50[plain]:.0f} ms, on a cluster {p50[on_one]:.0f} ms (1 worker each)")
-            print(f"  p50 on the cluster / on the plain server: {p50[on_one] / p50[plain]:.2f}x")
-            done: dict[str, list[tuple[list[float], int, float]]] = {on_one: [], on_two: []}
+                for name, url in alone.items():
+                    latencies[name] += run(url, files[k % len(files) :], 1, 1)[0]
+            p50 = {name: np.percentile(ms, 50) for name, ms in latencies.items()}
+            print(f"  1 client, in turn, 1 worker each: plain server p50 {p50['plain server']:.0f} ms, cluster {p50['cluster']:.0f} ms")
+            print(f"  p50 on the cluster / on the plain server: {p50['cluster'] / p50['plain server']:.2f}x")
+            done: dict[tuple[str, int], list[tuple[list[float], int, float]]] = {key: [] for key in servers}
             for _ in range(CLUSTER_TURNS):
-                for url in done:
-                    done[url].append(run(url, files, args.requests, CLUSTER_CLIENTS))
+                for key, url in servers.items():
+                    done[key].append(run(url, files, args.requests, CLUSTER_CLIENTS))
             throughput = {}
-            for url, name in ((on_one, "1 worker"), (on_two, "2 workers")):
-                every = [ms for times, _, _ in done[url] for ms in times]
-                errors, wall = sum(e for _, e, _ in done[url]), sum(w for _, _, w in done[url])
-                throughput[url] = len(every) / wall
-                print(line(f"cluster of {name}, {CLUSTER_CLIENTS} clients", every, errors, wall))
-            print(f"  throughput on 2 workers / on 1: {throughput[on_two] / throughput[on_one]:.2f}x")
+            for (name, workers), turns in done.items():
+                every = [ms for times, _, _ in turns for ms in times]
+                errors, wall = sum(e for _, e, _ in turns), sum(w for _, _, w in turns)
+                throughput[name, workers] = len(every) / wall
+                print(line(f"{name}, {workers} worker{'s' * (workers > 1)}, {CLUSTER_CLIENTS} clients", every, errors, wall))
+            ratios = [f"{name} {throughput[name, 2] / throughput[name, 1]:.2f}x" for name in alone]
+            print(f"  throughput on 2 workers / on 1: {', '.join(ratios)}")
 
 
 def main() -> None:
