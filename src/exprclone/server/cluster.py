@@ -1,12 +1,12 @@
 """Where ``exprclone serve --scheduler`` works (:class:`Cluster`): a Dask cluster, shared by every server started on it.
 
-Each landmarks, clone, compare and probe request is a task submitted to the cluster and awaited on the event loop: the
-web process only receives, checks and answers. A worker loads the models once, as it joins (:class:`Models`, a worker
-plugin that every server registers, once). The bound on the requests at work or waiting (``--workers`` +
-``--queue``) is a Dask ``Semaphore`` on the scheduler, so it holds across the servers; beyond it, the answer of one
-machine (503 and ``Retry-After``). A worker lost while it runs a request: Dask runs the task again on another (the
-scheduler's ``allowed-failures``), then gives up (``KilledWorker``): 503, try again. The video jobs are the
-cluster's too (:mod:`exprclone.server.shared_jobs`).
+The work of each request (landmarks, a clone, a compare sheet, an edit's preparation, a video's probe) is a task
+submitted to the cluster and awaited on the event loop: the web process only receives, checks and answers. A worker
+loads the models once, as it joins (:class:`Models`, a worker plugin that every server registers, once). The bound on
+the requests at work or waiting (``--workers`` + ``--queue``) is a Dask ``Semaphore`` on the scheduler, so it holds
+across the servers; beyond it, the answer of one machine (503 and ``Retry-After``). A worker lost while it runs a
+request: Dask runs the task again on another (the scheduler's ``allowed-failures``), then gives up (``KilledWorker``):
+503, try again. The video jobs are the cluster's too (:mod:`exprclone.server.shared_jobs`).
 """
 
 from __future__ import annotations

@@ -5,9 +5,9 @@ Each function takes small, picklable arguments (the uploaded bytes and the optio
 returns encoded results, so that only files cross between the web process and its
 workers. A driving video is a file in a job's folder for the server's own workers, and
 its bytes for a cluster's (:func:`probe_sent`, :func:`video_sent`), whose workers cannot
-read the web process's files. A worker remembers the landmarks of the photos it has seen, by the SHA-256 of
-their bytes and the landmarker: a portrait sent again with another expression is not
-detected again.
+read the web process's files. A worker remembers the landmarks of the photos it has
+seen, by the SHA-256 of their bytes and the landmarker: a portrait sent again with
+another expression is not detected again.
 """
 
 from __future__ import annotations
