@@ -1,6 +1,7 @@
 """Latency, throughput and memory of ``exprclone serve``'s POST /api/clone, on the real server.
 
     python benchmarks/serve.py [--data ../shared/data] [--requests 60] [--workers 2]
+    python benchmarks/serve.py --scheduler [--data ../shared/data] [--requests 60]
 
 Starts the server (``--workers``), then at 512 and 1350 pixels sends London pairs of
 photos (20 ordered pairs of different people, seed 0; at 512 the photos are shrunk and
@@ -19,11 +20,26 @@ load): the naive scikit-image warp of the same target photo, ``PiecewiseAffineTr
 estimated on the clone's mesh (landmarks, forehead and border points) and
 ``skimage.transform.warp`` of the whole photo (bilinear), as :mod:`run` measures it; the ratio
 of the server's p50 to the peer's median is printed.
+
+With ``--scheduler``, the server on a Dask cluster (``serve --scheduler``), each started as
+the deploy docs say (``dask scheduler``, ``dask worker --nworkers N --nthreads 1``), on this
+machine: a cluster of 1 worker process and one of 2, each with a server, and beside them
+the plain server with 1 worker and with 2, its peer. At each size, once the workers have
+seen the photos (a worker remembers their landmarks: the clusters' each told to place them,
+the plain servers' after passes over the pairs), it prints:
+
+- the latency of one client's requests, sent in turn to the plain server and to the
+  server on the cluster, 1 worker each (so that both see the same load), and the ratio
+  of their p50s;
+- the throughput of 4 concurrent clients on each server, in turns of ``--requests``
+  requests (3 turns each), and for each kind the ratio of 2 workers' to 1's: the plain
+  server's says what this machine allows.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import io
 import os
 import signal
@@ -31,6 +47,7 @@ import socket
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -42,6 +59,9 @@ SIZES = (512, 1350)
 CLIENTS = (1, 2, 4)
 PAIRS = 20
 MEMORY_REQUESTS = 200
+#: ``--scheduler``: the concurrent clients whose throughput is measured, the turns of each server, and the passes over
+#: the pairs before the plain server of 2 workers is measured.
+CLUSTER_CLIENTS, CLUSTER_TURNS, PLAIN_PASSES = 4, 3, 4
 
 
 def free_port() -> int:
@@ -123,14 +143,11 @@ def line(name: str, latencies: list[float], errors: int, wall: float) -> str:
     return f"  {name:34s} p50 {p50:6.0f} ms  p95 {p95:6.0f} ms  {len(latencies) / wall:5.2f} requests/s  errors {errors}"
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", "../shared/data")))
-    parser.add_argument("--requests", type=int, default=60)
-    parser.add_argument("--workers", type=int, default=2)
-    args = parser.parse_args()
+@contextlib.contextmanager
+def serving(*flags: str) -> Iterator[tuple[int, str]]:
+    """``exprclone serve FLAGS`` on a free port, until the block ends (then Ctrl-C): its PID and URL once it answers."""
     port = free_port()
-    server = subprocess.Popen([sys.executable, "-m", "exprclone", "serve", "--port", str(port), "--workers", str(args.workers)])
+    server = subprocess.Popen([sys.executable, "-m", "exprclone", "serve", "--port", str(port), *flags])
     url = f"http://127.0.0.1:{port}"
     try:
         while True:
@@ -139,6 +156,95 @@ def main() -> None:
                 break
             except httpx.TransportError:
                 time.sleep(0.2)
+        yield server.pid, url
+    finally:
+        os.kill(server.pid, signal.SIGINT)
+        server.wait(timeout=60)
+
+
+@contextlib.contextmanager
+def dask_cluster(workers: int) -> Iterator[str]:
+    """``dask scheduler`` and ``dask worker --nworkers WORKERS --nthreads 1`` on this machine, until the block ends: the
+    scheduler's address once its workers have joined."""
+    from distributed import Client
+
+    address = f"tcp://127.0.0.1:{free_port()}"
+    dask = [sys.executable, "-m", "dask"]
+    started = [subprocess.Popen([*dask, "scheduler", "--host", "127.0.0.1", "--port", address.rsplit(":", 1)[1], "--no-dashboard"])]
+    try:
+        started.append(subprocess.Popen([*dask, "worker", address, "--nworkers", str(workers), "--nthreads", "1", "--no-dashboard"]))
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(workers, timeout=120)
+        yield address
+    finally:
+        for process in reversed(started):
+            process.send_signal(signal.SIGINT)
+            process.wait(timeout=60)
+
+
+def seen(address: str, files: list[dict]) -> None:
+    """Every worker of the cluster at ``address`` places the landmarks of the photos of ``files`` (and remembers them)."""
+    from distributed import Client
+
+    from exprclone.landmarks.backends import DEFAULT
+    from exprclone.server import work
+
+    uploads = [work.Upload(field, content) for photos in files for field, (_, content) in photos.items()]
+    with Client(address, timeout=60) as client:
+        client.run(lambda: [work.landmarks(upload, None, DEFAULT) for upload in uploads])
+
+
+def on_clusters(args: argparse.Namespace) -> None:
+    """The ``--scheduler`` benchmark (see the module's notes)."""
+    with contextlib.ExitStack() as stack:
+        one, two = [stack.enter_context(dask_cluster(n)) for n in (1, 2)]
+        flags = ("--max-live", "0", "--queue", "8")
+        servers = {
+            ("plain server", 1): stack.enter_context(serving("--workers", "1", *flags))[1],
+            ("plain server", 2): stack.enter_context(serving("--workers", "2", *flags))[1],
+            ("cluster", 1): stack.enter_context(serving("--scheduler", one, "--workers", "1", *flags))[1],
+            ("cluster", 2): stack.enter_context(serving("--scheduler", two, "--workers", "2", *flags))[1],
+        }
+        print(f"exprclone serve --scheduler benchmark: {os.cpu_count()} cores, POST /api/clone (e+md, PNG answer)")
+        for size in SIZES:
+            files = payloads(args.data, size)
+            print(f"\n{size}x{size} photos")
+            run(servers["plain server", 1], files, len(files), 1)
+            run(servers["plain server", 2], files, PLAIN_PASSES * len(files), CLUSTER_CLIENTS)  # (its pool's processes at random)
+            for address in (one, two):
+                seen(address, files)
+            alone = {name: servers[name, 1] for name in ("plain server", "cluster")}
+            latencies: dict[str, list[float]] = {name: [] for name in alone}
+            for k in range(args.requests):
+                for name, url in alone.items():
+                    latencies[name] += run(url, files[k % len(files) :], 1, 1)[0]
+            p50 = {name: np.percentile(ms, 50) for name, ms in latencies.items()}
+            print(f"  1 client, in turn, 1 worker each: plain server p50 {p50['plain server']:.0f} ms, cluster {p50['cluster']:.0f} ms")
+            print(f"  p50 on the cluster / on the plain server: {p50['cluster'] / p50['plain server']:.2f}x")
+            done: dict[tuple[str, int], list[tuple[list[float], int, float]]] = {key: [] for key in servers}
+            for _ in range(CLUSTER_TURNS):
+                for key, url in servers.items():
+                    done[key].append(run(url, files, args.requests, CLUSTER_CLIENTS))
+            throughput = {}
+            for (name, workers), turns in done.items():
+                every = [ms for times, _, _ in turns for ms in times]
+                errors, wall = sum(e for _, e, _ in turns), sum(w for _, _, w in turns)
+                throughput[name, workers] = len(every) / wall
+                print(line(f"{name}, {workers} worker{'s' * (workers > 1)}, {CLUSTER_CLIENTS} clients", every, errors, wall))
+            ratios = [f"{name} {throughput[name, 2] / throughput[name, 1]:.2f}x" for name in alone]
+            print(f"  throughput on 2 workers / on 1: {', '.join(ratios)}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", "../shared/data")))
+    parser.add_argument("--requests", type=int, default=60)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--scheduler", action="store_true", help="the server on Dask clusters of 1 and 2 workers, against the plain server")
+    args = parser.parse_args()
+    if args.scheduler:
+        return on_clusters(args)
+    with serving("--workers", str(args.workers)) as (pid, url):
         print(f"exprclone serve benchmark: {os.cpu_count()} cores, {args.workers} workers, POST /api/clone (e+md, PNG answer)")
         for size in SIZES:
             files = payloads(args.data, size)
@@ -155,14 +261,11 @@ def main() -> None:
                 throughput[clients] = len(latencies) / wall
                 print(line(f"seen before, {clients} client{'s' * (clients > 1)}", latencies, errors, wall))
             print(f"  throughput with 4 clients / with 1: {throughput[4] / throughput[1]:.2f}x")
-        before = resident_mb(server.pid)
+        before = resident_mb(pid)
         latencies, errors, wall = run(url, payloads(args.data, 1350), MEMORY_REQUESTS, 4)
-        after = resident_mb(server.pid)
+        after = resident_mb(pid)
         print(f"\nmemory (server and workers, resident): {before:.0f} MB, then {after:.0f} MB after {MEMORY_REQUESTS} more at 1350 px")
         print(f"  ({100 * (after / before - 1):+.1f}%; those requests: {errors} errors)")
-    finally:
-        os.kill(server.pid, signal.SIGINT)
-        server.wait(timeout=60)
 
 
 if __name__ == "__main__":

@@ -1,5 +1,7 @@
-"""Real servers for the tests: ``exprclone serve`` started on a free port of 127.0.0.1, stopped by its own PID."""
+"""Real servers for the tests: ``exprclone serve`` started on a free port of 127.0.0.1, stopped by its own PID; nginx in
+front of them with the shipped configuration."""
 
+import contextlib
 import os
 import signal
 import socket
@@ -7,11 +9,17 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
+from pathlib import Path
 
 import httpx
+from conftest import need
 
 #: seconds a server may take to start (it loads the models in each worker first).
 START_TIMEOUT = 90
+NGINX = Path("/usr/sbin/nginx")
+#: the nginx configuration shipped, for one server or several (its upstreams list each).
+NGINX_CONFIG = Path(__file__).resolve().parents[1] / "deploy" / "nginx.conf"
 
 
 def interruptible() -> None:
@@ -69,3 +77,33 @@ class Server:
                 self.said.append(file.read())
                 file.close()
         return self.said[0], self.said[1]
+
+
+@contextlib.contextmanager
+def nginx(folder: Path, ports: list[int]) -> Iterator[str]:
+    """nginx on a free port of 127.0.0.1 with ``deploy/nginx.conf`` as shipped, in front of the servers on ``ports`` of
+    127.0.0.1 (each listed in its upstreams), its files in ``folder``: its URL, until the block ends."""
+    need(NGINX, "needs nginx (Debian's package nginx; .ci/run installs it)")
+    port = free_port()
+    servers = " ".join(f"server 127.0.0.1:{p};" for p in ports)
+    site = NGINX_CONFIG.read_text().replace("server 127.0.0.1:8000;", servers)
+    (folder / "exprclone.conf").write_text(site.replace("listen 80;", f"listen 127.0.0.1:{port};"))
+    temporary = " ".join(f"{kind}_temp_path {folder / kind};" for kind in ("client_body", "proxy", "fastcgi", "uwsgi", "scgi"))
+    (folder / "nginx.conf").write_text(
+        ("user root;\n" if os.geteuid() == 0 else "")
+        + f"daemon off; worker_processes 1; pid {folder / 'nginx.pid'}; error_log {folder / 'error.log'};\n"
+        + f"events {{ worker_connections 256; }}\nhttp {{ access_log off; {temporary} include {folder / 'exprclone.conf'}; }}\n"
+    )
+    process = subprocess.Popen([str(NGINX), "-p", str(folder), "-e", str(folder / "error.log"), "-c", str(folder / "nginx.conf")])
+    url = f"http://127.0.0.1:{port}"
+    try:
+        for _ in range(100):
+            try:
+                if httpx.get(f"{url}/api/health", timeout=2).status_code == 200:
+                    break
+            except httpx.TransportError:
+                time.sleep(0.1)
+        yield url
+    finally:
+        os.kill(process.pid, signal.SIGQUIT)
+        process.wait(timeout=30)

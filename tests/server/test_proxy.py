@@ -3,24 +3,18 @@ and the slow or silent clients that uvicorn keeps forever are cut off."""
 
 import json
 import os
-import signal
 import socket
-import subprocess
 import time
-from pathlib import Path
 
 import httpx
 import pytest
-from conftest import need
-from serving import Server, free_port
+from serving import Server, nginx
 from websockets.sync.client import connect
 
 from exprclone import data as samples
 
 pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -m 'not slow' leaves these out
 
-NGINX = Path("/usr/sbin/nginx")
-CONFIG = Path(__file__).resolve().parents[2] / "deploy" / "nginx.conf"
 #: the shipped client_header_timeout, in seconds.
 HEADER_TIMEOUT = 10
 
@@ -28,30 +22,11 @@ HEADER_TIMEOUT = 10
 @pytest.fixture(scope="module")
 def proxy(tmp_path_factory):
     """nginx on a free port of 127.0.0.1 with the shipped configuration, in front of ``exprclone serve``: its URL."""
-    need(NGINX, "needs nginx (Debian's package nginx; .ci/run installs it)")
-    folder = tmp_path_factory.mktemp("nginx")
-    backend, port = Server("--workers", "1"), free_port()
-    site = CONFIG.read_text().replace("server 127.0.0.1:8000;", f"server 127.0.0.1:{backend.port};")
-    (folder / "exprclone.conf").write_text(site.replace("listen 80;", f"listen 127.0.0.1:{port};"))
-    temporary = " ".join(f"{kind}_temp_path {folder / kind};" for kind in ("client_body", "proxy", "fastcgi", "uwsgi", "scgi"))
-    (folder / "nginx.conf").write_text(
-        ("user root;\n" if os.geteuid() == 0 else "")
-        + f"daemon off; worker_processes 1; pid {folder / 'nginx.pid'}; error_log {folder / 'error.log'};\n"
-        + f"events {{ worker_connections 256; }}\nhttp {{ access_log off; {temporary} include {folder / 'exprclone.conf'}; }}\n"
-    )
-    nginx = subprocess.Popen([str(NGINX), "-p", str(folder), "-e", str(folder / "error.log"), "-c", str(folder / "nginx.conf")])
-    url = f"http://127.0.0.1:{port}"
+    backend = Server("--workers", "1")
     try:
-        for _ in range(100):
-            try:
-                if httpx.get(f"{url}/api/health", timeout=2).status_code == 200:
-                    break
-            except httpx.TransportError:
-                time.sleep(0.1)
-        yield url
+        with nginx(tmp_path_factory.mktemp("nginx"), [backend.port]) as url:
+            yield url
     finally:
-        os.kill(nginx.pid, signal.SIGQUIT)
-        nginx.wait(timeout=30)
         _, err = backend.stop()
     assert "Traceback" not in err, err
 

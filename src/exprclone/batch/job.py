@@ -30,6 +30,7 @@ from typing import IO, Any
 
 import numpy as np
 
+from ..cluster import connect
 from ..errors import ExprCloneError
 from ..io.documents import csv_cell
 from ..io.progress import Display, Progress, Quiet
@@ -42,8 +43,6 @@ from .manifest import COLUMNS, Row
 DETECT_CHUNK = 8
 #: rows cloned per task at most (smaller tasks balance the workers and stop sooner after Ctrl-C).
 CLONE_CHUNK = 4
-#: seconds to wait for a Dask scheduler.
-CONNECT_TIMEOUT = 10
 #: how a backend runs tasks: ``map(function, items)`` gives ``(index, result)`` as results come.
 Map = Callable[[Callable[[Any], Any], list[Any]], Iterator[tuple[int, Any]]]
 #: the report's columns.
@@ -90,14 +89,9 @@ class Dask:
 
     @contextlib.contextmanager
     def running(self) -> Iterator[Map]:
-        try:
-            from distributed import Client, as_completed
-        except ImportError:
-            raise ExprCloneError("--scheduler", "needs Dask: pip install 'exprclone[dask]'") from None
-        try:
-            client = Client(self.scheduler, timeout=CONNECT_TIMEOUT)
-        except (OSError, ValueError) as e:
-            raise ExprCloneError("--scheduler", f"cannot reach a Dask scheduler at {self.scheduler} ({e})") from None
+        client = connect(self.scheduler)
+        from distributed import as_completed
+
         with client:
             submitted: list[Any] = []
 

@@ -5,19 +5,11 @@ and read and write the files at the paths given. A worker loads the landmarker a
 eigenface basis once, on its first task (:func:`exprclone.landmarks.backends.shared` and
 :func:`exprclone.geometry.eigenface.default_eigenfaces` keep them), and keeps them for every task after.
 
-A clone at 1350 pixels allocates and frees buffers of 22 MB (a float image). glibc's
-malloc keeps such buffers in its heap after the first few are freed, unless a
-``MALLOC_TRIM_THRESHOLD_`` is set, which freezes its thresholds: every buffer is then
-mapped and unmapped again, page by page. Dask's nanny sets it (65536) in every worker
-it starts, and a batch ran at 64% of the local pool's speed there (4.4 against 7.0
-pairs a second, ``benchmarks/batch.py``). A worker's first task therefore sets the
-thresholds where glibc's own adjustment would take them (:func:`keep_buffers`).
+A Dask worker keeps freed image buffers as a local process does (:func:`exprclone.cluster.keep_buffers`).
 """
 
 from __future__ import annotations
 
-import ctypes
-import functools
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -25,6 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..cluster import keep_buffers
 from ..errors import ExprCloneError, naming
 from ..options import Options
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
@@ -33,10 +26,6 @@ from .manifest import Row
 if TYPE_CHECKING:
     from ..pipeline import role_check
     from ..pipeline.cloner import Cloner
-
-#: glibc's ``mallopt`` parameters (malloc.h) and the largest mmap threshold it accepts on 64-bit
-#: systems (its adaptive threshold's ceiling): buffers up to 32 MB stay in the heap.
-M_TRIM_THRESHOLD, M_MMAP_THRESHOLD, BUFFER_BYTES = -1, -3, 32 * 1024 * 1024
 
 
 @dataclass(frozen=True)
@@ -59,17 +48,6 @@ class Outcome:
     lambda_k: float | None = None
     seconds: float = 0.0
     warnings: tuple[str, ...] = ()
-
-
-@functools.cache
-def keep_buffers() -> None:
-    """Let glibc's malloc keep freed image buffers for the next clone (see the module's notes); nothing elsewhere."""
-    try:
-        libc = ctypes.CDLL("libc.so.6")
-    except OSError:
-        return
-    libc.mallopt(M_MMAP_THRESHOLD, BUFFER_BYTES)
-    libc.mallopt(M_TRIM_THRESHOLD, 2 * BUFFER_BYTES)
 
 
 def detect(paths: list[str], landmarker: str) -> list[tuple[np.ndarray | None, str]]:

@@ -54,6 +54,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     add_address(s)
     add_bounds(s, tuple(BOUNDS))
     s.add_argument("--cors", action="append", default=[], metavar="ORIGIN", help="let pages from ORIGIN call the API (repeatable)")
+    s.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="do the clone, compare and video work on this Dask cluster (tcp://HOST:8786), sharing its jobs with the other"
+        " servers on it, instead of in local processes; --workers + --queue then bound the whole cluster's requests",
+    )
 
 
 def add_bounds(p: argparse.ArgumentParser, flags: tuple[str, ...]) -> None:
@@ -126,6 +132,12 @@ def run(args: argparse.Namespace) -> None:
     check_bounds(args, tuple(BOUNDS))
     fields = {flag.replace("-", "_"): getattr(args, flag.replace("-", "_")) for flag in BOUNDS if flag not in UVICORN}
     fields["max_pixels"] = round(fields.pop("max_megapixels") * 1e6)
-    settings = Settings(**fields, cors=tuple(args.cors))
-    said = f"serving on http://{args.host}:{args.port}/ ({args.workers} workers; Ctrl-C to stop)"
+    settings = Settings(**fields, cors=tuple(args.cors), scheduler=args.scheduler)
+    where = f"{args.workers} workers"
+    if args.scheduler:
+        from ..cluster import connect
+
+        connect(args.scheduler).close()  # one that cannot be reached is a one-line error now, not uvicorn's traceback
+        where = f"the Dask cluster at {args.scheduler}"
+    said = f"serving on http://{args.host}:{args.port}/ ({where}; Ctrl-C to stop)"
     listen(create_app(settings), args, said, ws_max_size=int(args.max_upload_mb * 2**20), ws_max_queue=WS_QUEUE)

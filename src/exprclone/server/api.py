@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import asyncio
 import base64
-import shutil
 from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
@@ -40,6 +38,8 @@ SAMPLES: dict[str, Callable[[], Path]] = {
     "portrait": lambda: samples.path(samples.TARGET),
     "driving_video": samples.clip,
 }
+#: a video job's result, as a download names it.
+MP4 = "exprclone.mp4"
 #: what the landmark files may be (their client file name's extension is the only part of it used).
 LANDMARK_EXTENSIONS = (".json", ".tem")
 
@@ -352,36 +352,27 @@ async def video(
     photo = await read_upload(portrait, "portrait")
     # a portrait without a face fails now, not in the job
     await server.run(work.landmarks, photo, server.settings.max_pixels, options.landmarker)
-    job = server.jobs.create()
-    try:
-        with job.video.open("wb") as out:
-            await asyncio.to_thread(shutil.copyfileobj, driving_video.file, out)
-        limits = Limits(server.settings.max_pixels, server.settings.max_video_seconds)  # its frames bounded as photos are
-        # a file that is not a video, or is over the limits, fails now, not in the job; probed in a worker
-        fps = await server.run(work.probe_video, str(job.video), limits)
-        files = (str(job.video), str(job.result), str(job.progress_file))
-        task = work.VideoRequest(photo, *files, options, driving.options, framing.options, limits, fps)
-        server.jobs.start(job, server.video_pool.submit(work.video, task))
-    except BaseException:
-        server.jobs.discard(job)
-        raise
-    return {"id": job.id, "status": f"/api/jobs/{job.id}", "result": f"/api/jobs/{job.id}/result"}
+    limits = Limits(server.settings.max_pixels, server.settings.max_video_seconds)  # its frames bounded as photos are
+    request = work.VideoRequest(photo, options, driving.options, framing.options, limits)
+    job_id = await server.backend.submit_video(request, driving_video.file)
+    return {"id": job_id, "status": f"/api/jobs/{job_id}", "result": f"/api/jobs/{job_id}/result"}
 
 
 @router.get("/api/jobs/{job_id}", responses=errors(404))
 async def job_state(server: Server, job_id: str) -> dict[str, Any]:
     """A job's ``state`` (queued, running, done, failed), ``progress`` (0 to 1), ``error`` and, once done, ``info``."""
-    server.jobs.expire()
-    return server.jobs.get(job_id).state()
+    return await server.backend.video_state(job_id)
 
 
 @router.get("/api/jobs/{job_id}/result", responses={200: {"content": {"video/mp4": {}}}, **errors(404, 409)})
 async def job_result(server: Server, job_id: str) -> Response:
-    """The job's MP4 (a :class:`~fastapi.responses.FileResponse`) once it is done; 409 with ``{"error"}`` before."""
-    job = server.jobs.get(job_id)
-    state = job.state()
+    """The job's MP4 once it is done; 409 with ``{"error"}`` before."""
+    state = await server.backend.video_state(job_id)
     if state["state"] != "done":
         return JSONResponse(
             {"error": f"job {job_id}: {state['state']}" + (f" ({state['error']})" if state["error"] else "")}, status_code=409
         )
-    return FileResponse(job.result, media_type="video/mp4", filename="exprclone.mp4")
+    result = await server.backend.video_result(job_id)
+    if isinstance(result, Path):
+        return FileResponse(result, media_type="video/mp4", filename=MP4)
+    return Response(result, media_type="video/mp4", headers={"Content-Disposition": f'attachment; filename="{MP4}"'})

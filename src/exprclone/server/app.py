@@ -85,11 +85,11 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     @contextlib.asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         app.state.work = Work(settings)
-        app.state.work.warm_up()
+        await app.state.work.start()
         try:
             yield
         finally:
-            app.state.work.close()
+            await app.state.work.close()
 
     description = (__doc__ or "").split("\n\n")[1]
     app = FastAPI(title="exprclone", version=__version__, lifespan=lifespan, description=description, docs_url=None, redoc_url=None)

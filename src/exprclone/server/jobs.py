@@ -6,6 +6,9 @@ removed :data:`Jobs.ttl` seconds after it ends (or at shutdown). A job that fail
 its place back at once: its files are removed then, and only its error is kept (until it
 expires, and at most :data:`FAILED_KEPT` of them). Job ids are random
 (128 bits) and checked against their form before any path is built from them.
+
+The rules on a store of jobs (:func:`check_room`, :func:`expired`, :func:`job_error`) are
+also those of the jobs a Dask cluster keeps for several servers (:mod:`exprclone.server.shared_jobs`).
 """
 
 from __future__ import annotations
@@ -33,6 +36,11 @@ RETRY_RUNNING = 30
 
 class NoSuchJob(Exception):
     """An id that is malformed, unknown or expired: answered 404."""
+
+    @classmethod
+    def of(cls, job_id: str, ttl: float) -> NoSuchJob:
+        """The error about ``job_id``, in a store whose jobs expire ``ttl`` seconds after they end."""
+        return cls(f"no job {job_id!r} (unknown, or expired after {ttl:g} s)")
 
 
 @dataclass
@@ -72,19 +80,14 @@ class Job:
 
     def state(self) -> dict[str, Any]:
         """``{"id", "state", "progress", "error", "info"}``: state is queued, running, done or failed; progress in [0, 1]."""
-        from ..errors import ExprCloneError
-
-        out = {"id": self.id, "state": "queued", "progress": 0.0, "error": None, "info": None}
-        if self.progress_file.exists():
-            report = json.loads(self.progress_file.read_text())
-            out.update(state="running", progress=report["done"] / max(report["total"], 1))
+        report = json.loads(self.progress_file.read_text()) if self.progress_file.exists() else {}
         if self.future is not None and self.future.done():
             error = self.future.exception()
             if error is None:
-                out.update(state="done", progress=1.0, info=self.future.result())
+                report["info"] = self.future.result()
             else:
-                out.update(state="failed", error=str(error) if isinstance(error, ExprCloneError) else "the job failed (internal error)")
-        return out
+                report["error"] = job_error(error)
+        return answer(self.id, report)
 
     @property
     def failed(self) -> bool:
@@ -119,12 +122,7 @@ class Jobs:
     def create(self) -> Job:
         """A new job with its folder, or :class:`Busy` when ``limit`` jobs are kept already (failed ones aside)."""
         self.expire()
-        kept = [job for job in self._jobs.values() if not job.failed]
-        if len(kept) >= self.limit:
-            ends = [job.ended + self.ttl for job in kept if job.ended is not None]
-            wait = max(1, math.ceil(min(ends) - time.time())) if ends else RETRY_RUNNING
-            why = "the first done one expires" if ends else "one ends"
-            raise Busy(f"{self.limit} video jobs are queued, running or kept; try again in {wait} s (when {why})", wait)
+        check_room([job.ended for job in self._jobs.values() if not job.failed], self.limit, self.ttl)
         job = Job(secrets.token_hex(16), Path())
         job.folder = self.root / job.id
         job.folder.mkdir()
@@ -134,7 +132,7 @@ class Jobs:
     def get(self, job_id: str) -> Job:
         """The job, or :class:`NoSuchJob`."""
         if not JOB_ID.fullmatch(job_id) or job_id not in self._jobs:
-            raise NoSuchJob(f"no job {job_id!r} (unknown, or expired after {self.ttl:g} s)")
+            raise NoSuchJob.of(job_id, self.ttl)
         return self._jobs[job_id]
 
     def discard(self, job: Job) -> None:
@@ -144,15 +142,52 @@ class Jobs:
 
     def expire(self, now: float | None = None) -> None:
         """Remove the jobs that ended more than ``ttl`` seconds ago."""
-        now = time.time() if now is None else now
-        for job in list(self._jobs.values()):
-            if job.ended is not None and now - job.ended > self.ttl:
-                self.discard(job)
-        failed = [job for job in self._jobs.values() if job.failed]
-        for job in failed[: max(len(failed) - FAILED_KEPT, 0)]:
-            self.discard(job)
+        kept = [(job.id, job.ended, job.failed) for job in self._jobs.values()]
+        for job_id in expired(kept, self.ttl, time.time() if now is None else now):
+            self.discard(self._jobs[job_id])
 
     def start(self, job: Job, future: Future[dict[str, Any]]) -> None:
         """Follow the job's work; it ends (and its time to live starts) when the work does."""
         job.future = future
         future.add_done_callback(lambda _: job.ended_now())
+
+
+def answer(job_id: str, report: dict[str, Any]) -> dict[str, Any]:
+    """A job's state, ``{"id", "state", "progress", "error", "info"}``, from its report: ``{}`` while queued, the frames
+    ``{"done", "total"}`` while running, then ``"info"`` (what :func:`exprclone.server.work.video` returned) when done
+    or ``"error"`` (:func:`job_error`) when failed. State is queued, running, done or failed; progress in [0, 1]."""
+    out = {"id": job_id, "state": "queued", "progress": 0.0, "error": None, "info": None}
+    if "total" in report:
+        out.update(state="running", progress=report["done"] / max(report["total"], 1))
+    if "info" in report:
+        out.update(state="done", progress=1.0, info=report["info"])
+    elif "error" in report:
+        out.update(state="failed", error=report["error"])
+    return out
+
+
+def check_room(kept: list[float | None], limit: int, ttl: float) -> None:
+    """:class:`Busy` when ``limit`` jobs are kept (failed ones aside; ``kept`` is when each ended, None while queued or
+    running): ``Retry-After`` the seconds until the first done one expires, or :data:`RETRY_RUNNING` while none is."""
+    if len(kept) < limit:
+        return
+    ends = [ended + ttl for ended in kept if ended is not None]
+    wait = max(1, math.ceil(min(ends) - time.time())) if ends else RETRY_RUNNING
+    why = "the first done one expires" if ends else "one ends"
+    raise Busy(f"{limit} video jobs are queued, running or kept; try again in {wait} s (when {why})", wait)
+
+
+def expired(jobs: list[tuple[str, float | None, bool]], ttl: float, now: float) -> list[str]:
+    """The ids of the jobs to remove, of ``jobs`` (each ``(id, ended, failed)``, the oldest first): those that ended more
+    than ``ttl`` seconds before ``now``, and the oldest failed ones beyond :data:`FAILED_KEPT`."""
+    gone = [job_id for job_id, ended, _ in jobs if ended is not None and now - ended > ttl]
+    failed = [job_id for job_id, _, failed in jobs if failed and job_id not in gone]
+    return gone + failed[: max(len(failed) - FAILED_KEPT, 0)]
+
+
+def job_error(error: BaseException) -> str:
+    """What a failed job's state says of the error that ended it: a user's error (ExprCloneError) as it is worded, any
+    other as an internal error (its details are the server's log's, not a client's)."""
+    from ..errors import ExprCloneError
+
+    return str(error) if isinstance(error, ExprCloneError) else "the job failed (internal error)"

@@ -19,6 +19,12 @@ class Busy(Exception):
         self.retry_after = retry_after
 
 
+def full(limit: int) -> Busy:
+    """What a request is answered when ``limit`` requests are at work or waiting already (on this server, or on a Dask
+    cluster: :class:`exprclone.server.cluster.Cluster`)."""
+    return Busy(f"the server is busy ({limit} requests at work or waiting); try again in {RETRY_AFTER} s")
+
+
 class Paced:
     """At most ``count`` of a kind of request per client address in ``seconds``; the next is refused, answered 429 with
     ``Retry-After`` (:class:`TooMany`). At most ``clients`` addresses are remembered (the oldest forgotten first).
@@ -66,7 +72,7 @@ class Gate:
 
     def __enter__(self) -> "Gate":
         if self.inside >= self.limit:
-            raise Busy(f"the server is busy ({self.limit} requests at work or waiting); try again in {RETRY_AFTER} s")
+            raise full(self.limit)
         self.inside += 1
         return self
 

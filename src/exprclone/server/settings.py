@@ -40,6 +40,11 @@ class Settings:
         Seconds an edit is kept without a render.
     cors : tuple of str
         Origins allowed to call the API from other pages (none by default).
+    scheduler : str or None
+        A Dask scheduler's address (``tcp://HOST:8786``): the clone, compare and video work runs on its cluster, whose
+        jobs every server started on it shares (:mod:`exprclone.server.cluster`); ``workers`` + ``queue`` then bound the
+        requests at work or waiting on the whole cluster, and ``video_workers`` is not used. None: this machine's
+        worker processes.
     """
 
     workers: int = os.cpu_count() or 1
@@ -55,3 +60,4 @@ class Settings:
     max_edits: int = 8
     edit_ttl: float = 600.0
     cors: tuple[str, ...] = ()
+    scheduler: str | None = None

@@ -1,4 +1,4 @@
-"""The state of a running ``exprclone serve`` (:class:`Work`): its temporary folder, worker pools, queue and jobs.
+"""The state of a running ``exprclone serve`` (:class:`Work`): where its work runs, its queue, edits and live sessions.
 
 Kept below the application and its routes (:mod:`exprclone.server.app`, :mod:`exprclone.server.api`,
 :mod:`exprclone.server.live`), which reach it through the FastAPI dependency :data:`Server`.
@@ -7,65 +7,58 @@ Kept below the application and its routes (:mod:`exprclone.server.app`, :mod:`ex
 from __future__ import annotations
 
 import asyncio
-import logging
-import multiprocessing
-import shutil
-import tempfile
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
-from concurrent.futures.process import BrokenProcessPool
-from pathlib import Path
-from typing import Annotated, Any, TypeVar
+from concurrent.futures import ThreadPoolExecutor
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 from fastapi import Depends
 from starlette.requests import HTTPConnection
 
-from . import work
 from .edits import Edits
-from .jobs import Jobs
-from .limits import Busy, Gate
+from .limits import Gate
+from .processes import Processes
 from .rendering import Hosts
 from .settings import Settings
 
-log = logging.getLogger("exprclone.server")
+if TYPE_CHECKING:
+    from .cluster import Cluster
+
 T = TypeVar("T")
 
 
 class Work:
-    """The server's state: its temporary folder, the worker pools, the work queue's gate, the video jobs and the edits."""
+    """The server's state: where its clone and video work runs (:attr:`backend`), the work queue's gate, the edits and
+    the live sessions.
+
+    Attributes
+    ----------
+    backend : Processes or Cluster
+        The server's own worker processes (:class:`~exprclone.server.processes.Processes`), or with
+        ``settings.scheduler`` a Dask cluster (:class:`~exprclone.server.cluster.Cluster`).
+    """
 
     def __init__(self, settings: Settings) -> None:
         self.settings = settings
-        self.folder = Path(tempfile.mkdtemp(prefix="exprclone-serve-"))
         self.gate = Gate(settings.workers + settings.queue)
-        self.jobs = Jobs(self.folder, settings.max_jobs, settings.job_ttl)
-        self.pool = self._pool(settings.workers)
-        self.video_pool = self._pool(settings.video_workers)
+        self.backend: Processes | Cluster
+        if settings.scheduler is None:
+            self.backend = Processes(settings, self.gate)
+        else:
+            from .cluster import Cluster  # (Dask, an extra, is loaded only by a server that uses it)
+
+            self.backend = Cluster(settings)
         self.edits = Edits(settings.max_edits, settings.edit_ttl)
         self.renders = ThreadPoolExecutor(settings.workers, thread_name_prefix="render")  # edits render in this process
         self.live_sessions = 0
         self.live_hosts = Hosts(settings.max_live)
 
-    @staticmethod
-    def _pool(workers: int) -> ProcessPoolExecutor:
-        # spawned, not forked: the web process runs threads (the event loop, the pools' own)
-        return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=work.load_models)
-
-    def warm_up(self) -> None:
-        """Start every clone worker now (each loads the models as it starts)."""
-        for future in [self.pool.submit(work.ready) for _ in range(self.settings.workers)]:
-            future.result()
+    async def start(self) -> None:
+        """Start the workers now (each loads the models as it starts), or connect to the cluster."""
+        await self.backend.start()
 
     async def run(self, function: Callable[..., T], *args: Any) -> T:
-        """``function(*args)`` in a clone worker, past the gate; a broken pool is replaced and the request refused (503)."""
-        with self.gate:
-            try:
-                return await asyncio.get_running_loop().run_in_executor(self.pool, function, *args)
-            except BrokenProcessPool:
-                log.error("a worker process died; starting new ones")
-                self.pool.shutdown(wait=False, cancel_futures=True)
-                self.pool = self._pool(self.settings.workers)
-                raise Busy("a worker stopped unexpectedly; try again") from None
+        """``function(*args)`` in a clone worker, past the gate (a full gate, or a worker that stops: 503)."""
+        return await self.backend.run(function, *args)
 
     async def render(self, function: Callable[..., T], *args: Any) -> T:
         """``function(*args)`` on a render thread of this process (an edit's render, which holds its prepared clone), past
@@ -73,19 +66,12 @@ class Work:
         with self.gate:
             return await asyncio.get_running_loop().run_in_executor(self.renders, function, *args)
 
-    def close(self) -> None:
-        """Stop the workers and remove the temporary folder. The requests have been answered by then (uvicorn waits for
-        them); a video job still queued is cancelled, and one still running is stopped: its result would go with the
-        folder, and a Ctrl-C should not wait for it."""
-        for pool in (self.pool, self.video_pool):
-            processes = list(pool._processes.values())  # (Python 3.14's terminate_workers does this)
-            pool.shutdown(wait=False, cancel_futures=True)
-            for process in processes:
-                process.terminate()
-                process.join()
+    async def close(self) -> None:
+        """Stop the workers (or leave the cluster) and the live hosts. The requests have been answered by then (uvicorn
+        waits for them)."""
+        await self.backend.close()
         self.live_hosts.close()
         self.renders.shutdown(wait=False, cancel_futures=True)
-        shutil.rmtree(self.folder, ignore_errors=True)
 
 
 def the_server(connection: HTTPConnection) -> Work:

@@ -1,22 +1,28 @@
-"""The server's CPU work, run in worker processes that load the models once.
+"""The server's CPU work, run in worker processes that load the models once: the server's own, or a Dask cluster's
+(``serve --scheduler``, :mod:`exprclone.server.cluster`).
 
 Each function takes small, picklable arguments (the uploaded bytes and the options) and
 returns encoded results, so that only files cross between the web process and its
-workers. A worker remembers the landmarks of the photos it has seen, by the SHA-256 of
-their bytes and the landmarker: a portrait sent again with another expression is not
-detected again.
+workers. A driving video is a file in a job's folder for the server's own workers, and
+its bytes for a cluster's (:func:`probe_sent`, :func:`video_sent`), whose workers cannot
+read the web process's files. A worker remembers the landmarks of the photos it has
+seen, by the SHA-256 of their bytes and the landmarker: a portrait sent again with
+another expression is not detected again.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
+import tempfile
 import warnings
 from collections import OrderedDict
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from fractions import Fraction
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -71,19 +77,41 @@ class CloneRequest:
 
 @dataclass(frozen=True)
 class VideoRequest:
-    """What ``POST /api/video`` asks: a portrait, a driving video (saved in the job's folder), where to write, how to
-    clone each frame (:class:`~exprclone.options.Options`), drive the portrait (:class:`~exprclone.options.Driving`) and
-    frame the output (:class:`~exprclone.options.Framing`)."""
+    """What ``POST /api/video`` asks: a portrait, how to clone each frame (:class:`~exprclone.options.Options`), drive
+    the portrait (:class:`~exprclone.options.Driving`) and frame the output (:class:`~exprclone.options.Framing`), and
+    the bounds on its driving video's frames."""
 
     portrait: Upload
-    video: str
-    output: str
-    progress: str
     options: Options
     driving: Driving
     framing: Framing
     limits: Limits
-    fps: Fraction  # its frame rate (:func:`probe_video`)
+
+
+@dataclass(frozen=True)
+class Clip:
+    """A job's driving video where its worker reads it, its frame rate (:func:`probe_video`), and where the MP4 goes."""
+
+    video: str
+    fps: Fraction
+    output: str
+
+
+#: how a video job's worker reports its progress: ``report(done, total)`` frames.
+Report = Callable[[int, int], None]
+
+
+@dataclass(frozen=True)
+class ProgressFile:
+    """A job's progress in a file the web process reads: ``{"done", "total"}`` frames (the server's own video pool)."""
+
+    path: str
+
+    def __call__(self, done: int, total: int) -> None:
+        from ..io.images import atomic_write
+
+        report = json.dumps({"done": done, "total": total}).encode()
+        atomic_write(self.path, lambda out: out.write(report))
 
 
 def load_models() -> None:
@@ -227,8 +255,8 @@ def probe_video(path: str, limits: Limits) -> Fraction:
         return probe(path, limits).fps
 
 
-def video(request: VideoRequest) -> dict[str, Any]:
-    """``POST /api/video``: the portrait driven by the video, written to ``request.output``, progress to ``request.progress``.
+def video(request: VideoRequest, clip: Clip, report: Report) -> dict[str, Any]:
+    """``POST /api/video``: the portrait driven by the clip, written to ``clip.output``, its progress reported.
 
     Returns
     -------
@@ -239,13 +267,13 @@ def video(request: VideoRequest) -> dict[str, Any]:
     from ..drive.framing import resize_portrait
     from ..io import video as video_io
 
-    with naming({request.video: "driving_video", request.output: "result"}):
+    with naming({clip.video: "driving_video", clip.output: "result"}):
         portrait, _ = resize_portrait(_image(request.portrait, request.limits.max_pixels), None, request.framing.size)
         recording = drive.prepare(
-            portrait, None, lambda: opened(request), float(request.fps), options=request.options, driving=request.driving
+            portrait, None, lambda: opened(request, clip), float(clip.fps), options=request.options, driving=request.driving
         )
-        frames = _reporting(recording, opened(request), request)
-        written = video_io.write_video(request.output, frames, request.fps, audio_from=request.video)
+        frames = _reporting(recording, opened(request, clip), request, report)
+        written = video_io.write_video(clip.output, frames, clip.fps, audio_from=clip.video)
     return {
         "frames": written,
         "lambda_k": json_number(recording.driver.lambda_k),
@@ -254,21 +282,43 @@ def video(request: VideoRequest) -> dict[str, Any]:
     }
 
 
-def opened(request: VideoRequest) -> Iterator[np.ndarray]:
+def opened(request: VideoRequest, clip: Clip) -> Iterator[np.ndarray]:
     """A new pass over a job's driving video, within its limits."""
     from ..io.video import read_frames
 
-    return read_frames(request.video, request.limits)
+    return read_frames(clip.video, request.limits)
 
 
-def _reporting(recording: Recording, frames: Iterator[np.ndarray], request: VideoRequest) -> Iterator[np.ndarray]:
-    """The rendered frames, the progress file updated every :data:`PROGRESS_EVERY` of them."""
+def _reporting(recording: Recording, frames: Iterator[np.ndarray], request: VideoRequest, report: Report) -> Iterator[np.ndarray]:
+    """The rendered frames, the progress reported every :data:`PROGRESS_EVERY` of them."""
     from ..drive.framing import side_by_side
-    from ..io.images import atomic_write
 
     total = len(recording.points)
     for done, f in enumerate(recording.frames(frames), 1):
         if done % PROGRESS_EVERY == 0 or done == total:
-            report = json.dumps({"done": done, "total": total}).encode()
-            atomic_write(request.progress, lambda out: out.write(report))
+            report(done, total)
         yield side_by_side(f.driving, f.image) if request.framing.side_by_side else f.image
+
+
+@contextlib.contextmanager
+def _received(content: bytes) -> Iterator[Path]:
+    """``content`` saved in a folder of this worker's own, as ``driving``: a driving video sent as bytes (a worker on a
+    cluster cannot read the web process's files); the folder is removed after."""
+    with tempfile.TemporaryDirectory(prefix="exprclone-job-") as folder:
+        path = Path(folder) / "driving"
+        path.write_bytes(content)
+        yield path
+
+
+def probe_sent(content: bytes, limits: Limits) -> Fraction:
+    """:func:`probe_video` of a driving video sent as bytes (on a Dask cluster)."""
+    with _received(content) as path:
+        return probe_video(str(path), limits)
+
+
+def video_sent(request: VideoRequest, content: bytes, fps: Fraction, report: Report) -> tuple[dict[str, Any], bytes]:
+    """:func:`video` of a driving video sent as bytes (on a Dask cluster): what it returns, and the MP4's bytes."""
+    with _received(content) as path:
+        clip = Clip(str(path), fps, str(path.with_name("result.mp4")))
+        info = video(request, clip, report)
+        return info, Path(clip.output).read_bytes()
