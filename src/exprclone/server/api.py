@@ -255,8 +255,7 @@ async def make_edit(server: Server, uploads: Uploads, asked: CloneOptions) -> Ed
     request = await clone_request(server, uploads, asked)
     full, preview, inputs, placed = await server.run(work.prepare_edit, request, PREVIEW)
     edit_id = server.edits.add(Edit(full, preview, inputs, placed))
-    (height, width), (preview_height, preview_width) = full.cloner.faces.target_image.shape[:2], preview.cloner.faces.target_image.shape[:2]
-    shape = full.shapes[full.methods[0].shape]
+    (height, width), (preview_height, preview_width) = full.target_size, preview.target_size
     return EditMade(
         id=edit_id,
         render=f"/api/edits/{edit_id}/render",
@@ -264,7 +263,7 @@ async def make_edit(server: Server, uploads: Uploads, asked: CloneOptions) -> Ed
         height=height,
         preview_width=preview_width,
         preview_height=preview_height,
-        lambda_k=json_number(shape.lambda_k),
+        lambda_k=json_number(full.lambda_k),
         expires_after=server.settings.edit_ttl,
         warnings=list(full.warnings),
     )

@@ -1,0 +1,350 @@
+"""Every face of a group photo: found and numbered, chosen, each cloned in its own region, the regions blended back.
+
+A clone is of one face on one photo: the target's mesh reaches the photo's border
+(:func:`exprclone.imaging.piecewise.build_mesh`), and its light is read from the photo
+(the mouth's tone, the ERI's box). A photo of several faces is cloned face by face:
+
+1. :func:`find`: every face, small or large (:func:`exprclone.landmarks.crowd.find`), its
+   landmarks fitted in its box, numbered in reading order; one that cannot be cloned
+   says why (:func:`problem_of`: too small, turned too far, cut by the frame) and is left
+   as it is.
+2. :func:`choose`: the faces the options' ``faces`` asks for (all, the largest, or numbers).
+3. :func:`region`: each chosen face's region, its landmarks' box grown by :data:`MARGIN`
+   of its width on every side, inside the photo, is the target photo of one ordinary clone
+   (:func:`exprclone.prepare`): each face is cloned at its own scale, with its own light.
+4. :func:`weights` and :meth:`Group.render`: the clones go back into the photo,
+   ``input + sum_i w_i (clone_i - input)``, with weights ``w_i`` that are 1 inside region
+   ``i`` and fall smoothly to 0 at its edges inside the photo (over :data:`FEATHER` of its
+   face's width), and to 0 over every other face (:func:`ownership`), normalised by their sum
+   where regions overlap and it exceeds 1. Overlapping or touching regions so blend without
+   a seam, each face is its own clone's, and outside the chosen faces' regions, and over the
+   faces not chosen, the photo is the input bit for bit.
+
+A photo of one face is cloned whole, as it always was, not in a region (its output is the
+same bit for bit); so is a photo whose target landmarks are given.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import ExprCloneError
+from ..landmarks import crowd
+from ..landmarks.backends import Landmarker, shared
+from ..landmarks.layout import Layout
+from ..methods import Method
+from ..options import Options
+from .checks import check_face
+from .cloner import CloneResult, FaceResult, Prepared
+
+#: a region grows its face's landmark box by this many of the face's widths on every side (a clone of a London photo
+#: cropped so changes by at most 10 levels, PSNR 63 dB, from the clone of the whole photo).
+MARGIN = 0.75
+#: a region's weight rises from 0 at its edge to 1 over this many of its face's widths.
+FEATHER = 0.25
+#: a face's core, an ellipse over its landmarks' box and its forehead (this share of the box's height above it),...
+FOREHEAD = 0.35
+#: ...grown by this factor, is its own: other faces' clones fade out over this much more of its radii.
+CORE_GROW, CORE_FEATHER = 1.1, 0.3
+#: where two faces' cores meet, the nearer one (in core radii) takes over within this much of either.
+HANDOVER = 0.15
+#: the narrowest face cloned, pixels across its box.
+MIN_ACROSS = 80
+#: a face turned further than this (its nose this share of the way from its cheeks' midpoint to a cheek) is left.
+MAX_TURN = 0.5
+#: a face whose landmarks come within this share of its width of the photo's edge is cut by the frame.
+CUT = 0.05
+
+#: a face box ``(left, top, right, bottom)``; a region ``(x0, y0, x1, y1)``.
+Box = tuple[float, float, float, float]
+Region = tuple[int, int, int, int]
+
+
+@dataclass(frozen=True)
+class Found:
+    """A face found in a photo.
+
+    Attributes
+    ----------
+    number : int
+        From 1, in reading order (:func:`exprclone.landmarks.crowd.reading_order`).
+    box : tuple of float
+        ``(left, top, right, bottom)``, pixels.
+    points : ndarray of shape (N, 2)
+        Its landmarks.
+    problem : str
+        Why it cannot be cloned (:func:`problem_of`); empty when it can.
+    """
+
+    number: int
+    box: Box
+    points: np.ndarray
+    problem: str = ""
+
+    @property
+    def across(self) -> float:
+        """Its box's width, pixels."""
+        return self.box[2] - self.box[0]
+
+
+def find(image: np.ndarray, landmarker: Landmarker, subject: str, layout: Layout) -> tuple[Found, ...]:
+    """Every face of ``image`` with its landmarks, in reading order (see the module's notes).
+
+    A photo with one face gives it as the landmarker's :meth:`~Landmarker.detect` finds it
+    (a clone of it is the same as before faces were looked for); with several, each face's
+    landmarks are fitted in the box :func:`exprclone.landmarks.crowd.find` gives it.
+
+    Parameters
+    ----------
+    image : ndarray of shape (H, W, 3), uint8 RGB
+    landmarker : Landmarker
+    subject : str
+        What the photo is, for errors (its role).
+    layout : Layout
+        The landmarks' layout.
+
+    Returns
+    -------
+    tuple of Found
+
+    Raises
+    ------
+    NoFaceError
+        The photo shows no face.
+    """
+    mesh = landmarker if getattr(landmarker, "name", None) == "mesh" else shared("mesh")
+    boxes = crowd.find(image, mesh)  # type: ignore[arg-type]  # (the mesh landmarker, or the shared one)
+    if len(boxes) <= 1:
+        points = landmarker.detect(image, subject)
+        return (Found(1, boxes[0] if boxes else _box_of(points), points),)
+    faces = []
+    for number, box in enumerate(boxes, 1):
+        points = landmarker.fit(image, box)
+        faces.append(Found(number, box, points, problem_of(points, box, image.shape, layout)))
+    return tuple(faces)
+
+
+def _box_of(points: np.ndarray) -> Box:
+    low, high = points.min(0), points.max(0)
+    return (float(low[0]), float(low[1]), float(high[0]), float(high[1]))
+
+
+def turn(points: np.ndarray, layout: Layout) -> float:
+    """How far a face is turned from the camera: the nose's offset from the midpoint of the jaw's two ends, along the
+    eye line, as a share of half their distance (0 facing the camera, 1 in profile)."""
+    right = points[layout.eye_corners[1]] - points[layout.eye_corners[0]]
+    right = right / max(float(np.linalg.norm(right)), 1e-12)
+    ends = points[[layout.jaw[0], layout.jaw[-1]]] @ right
+    nose = float(points[list(layout.nose)].mean(0) @ right)
+    return abs(nose - float(ends.mean())) / max(abs(float(ends[1] - ends[0])) / 2, 1e-12)
+
+
+def problem_of(points: np.ndarray, box: Box, shape: tuple[int, ...], layout: Layout) -> str:
+    """Why a face (its landmarks and box in a photo of ``shape``) cannot be cloned, or "" when it can: narrower than
+    :data:`MIN_ACROSS`, cut by the frame (:data:`CUT`), turned further than :data:`MAX_TURN` (:func:`turn`), or
+    landmarks that make no face (:func:`exprclone.pipeline.checks.check_face`)."""
+    across = box[2] - box[0]
+    if across < MIN_ACROSS:
+        return f"too small ({across:.0f} px across, at least {MIN_ACROSS})"
+    low, high = points.min(0), points.max(0)
+    edge = CUT * float(high[0] - low[0])
+    if (low < edge).any() or high[0] > shape[1] - 1 - edge or high[1] > shape[0] - 1 - edge:
+        return "cut by the frame"
+    if turn(points, layout) > MAX_TURN:
+        return f"turned too far from the camera (its nose {turn(points, layout):.2f} of the way to a cheek, at most {MAX_TURN})"
+    try:
+        check_face(points, layout, "face")
+    except ExprCloneError as e:
+        return e.problem
+    return ""
+
+
+def choose(faces: Sequence[Found], asked: str | tuple[int, ...]) -> tuple[Found, ...]:
+    """The faces the option ``faces`` asks for: ``"all"``, ``"largest"`` (the widest box), or numbers; ExprCloneError
+    about ``faces`` for a number the photo has no face of."""
+    if asked == "all":
+        return tuple(faces)
+    if isinstance(asked, str):  # "largest"
+        return (max(faces, key=lambda f: f.across),)
+    missing = [n for n in asked if n > len(faces)]
+    if missing:
+        shown = f"{len(faces)} face" + ("s" if len(faces) > 1 else "")
+        raise ExprCloneError("faces", f"no face {missing[0]}: the photo shows {shown} (exprclone faces numbers them)")
+    return tuple(f for f in faces if f.number in asked)
+
+
+def region(points: np.ndarray, shape: tuple[int, ...]) -> Region:
+    """A face's region ``(x0, y0, x1, y1)``: its landmarks' box grown by :data:`MARGIN` of its width on every side,
+    inside a photo of ``shape``.
+
+    >>> region(np.array([[100.0, 100], [200, 220]]), (300, 1000))
+    (25, 25, 276, 296)
+    """
+    low, high = points.min(0), points.max(0)
+    grow = MARGIN * float(high[0] - low[0])
+    x0, y0 = (max(0, int(np.floor(v - grow))) for v in low)
+    return x0, y0, min(shape[1], int(np.ceil(high[0] + grow)) + 1), min(shape[0], int(np.ceil(high[1] + grow)) + 1)
+
+
+def _smooth(t: np.ndarray) -> np.ndarray:
+    """0 below 0, 1 above 1, and the smoothstep ``3t^2 - 2t^3`` between."""
+    t = np.clip(t, 0.0, 1.0)
+    return t * t * (3 - 2 * t)
+
+
+def core_radius(points: np.ndarray, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+    """Each pixel's distance from a face's centre in radii of its core (see :data:`FOREHEAD`, :data:`CORE_GROW`): an
+    ellipse over its landmarks' box and forehead, 1 on its edge; float32 of the grid ``ys``, ``xs`` broadcast."""
+    low, high = points.min(0), points.max(0)
+    top = low[1] - FOREHEAD * (high[1] - low[1])
+    centre = np.array([(low[0] + high[0]) / 2, (top + high[1]) / 2])
+    radii = CORE_GROW * np.array([(high[0] - low[0]) / 2, (high[1] - top) / 2])
+    return np.sqrt(((xs - centre[0]) / radii[0]) ** 2 + ((ys - centre[1]) / radii[1]) ** 2).astype(np.float32)
+
+
+def ownership(rho_own: np.ndarray, rho_other: np.ndarray) -> np.ndarray:
+    """How much of a pixel belongs to another face rather than to one's own, given its distance from each in core
+    radii (:func:`core_radius`): 1 over the other's core where it is the nearer, fading out over
+    :data:`CORE_FEATHER` beyond it and over :data:`HANDOVER` across the line where the two are equally near."""
+    inside = _smooth((1 + CORE_FEATHER - rho_other) / CORE_FEATHER)
+    return (inside * _smooth((rho_own - rho_other + HANDOVER) / (2 * HANDOVER))).astype(np.float32)
+
+
+def weights(faces: Sequence[Found], chosen: Sequence[Found], regions: Sequence[Region], shape: tuple[int, ...]) -> list[np.ndarray]:
+    """Each chosen face's weight over its region (see the module's notes), normalised where regions overlap.
+
+    Parameters
+    ----------
+    faces : sequence of Found
+        Every face of the photo (each keeps its own pixels from the others' clones).
+    chosen : sequence of Found
+        The faces cloned, each in its region of ``regions``.
+    regions : sequence of tuple of int
+    shape : tuple of int
+        The photo's.
+
+    Returns
+    -------
+    list of ndarray of shape (y1 - y0, x1 - x0), float32
+        In ``[0, 1]``; their sum at a pixel is at most 1.
+    """
+    raw = []
+    for face, (x0, y0, x1, y1) in zip(chosen, regions):
+        ys, xs = np.arange(y0, y1, dtype=np.float32)[:, None], np.arange(x0, x1, dtype=np.float32)[None, :]
+        feather = FEATHER * float(np.ptp(face.points[:, 0]))
+        inner = [ys - y0 if y0 > 0 else None, y1 - 1 - ys if y1 < shape[0] else None, xs - x0 if x0 > 0 else None]
+        inner.append(x1 - 1 - xs if x1 < shape[1] else None)
+        w = np.ones((y1 - y0, x1 - x0), np.float32)
+        for distance in (d for d in inner if d is not None):
+            w = w * _smooth(distance / feather)
+        own = core_radius(face.points, ys, xs)
+        for other in faces:
+            if other.number != face.number:
+                w = w * (1 - ownership(own, core_radius(other.points, ys, xs)))
+        raw.append(w.astype(np.float32))
+    total = np.zeros(shape[:2], np.float32)
+    for w, (x0, y0, x1, y1) in zip(raw, regions):
+        total[y0:y1, x0:x1] += w
+    return [w / np.maximum(total[y0:y1, x0:x1], 1.0) for w, (x0, y0, x1, y1) in zip(raw, regions)]
+
+
+def blend(image: np.ndarray, clones: Sequence[np.ndarray], regions: Sequence[Region], weights: Sequence[np.ndarray]) -> np.ndarray:
+    """``image`` with each clone (of its region) added where its weight says (see the module's notes); a new array.
+
+    Each region is written once, with every region overlapping it added in the same order, so that a pixel of two
+    regions gets the same value from either.
+    """
+    out = image.copy()
+    deltas = [c.astype(np.float32) - image[y0:y1, x0:x1] for c, (x0, y0, x1, y1) in zip(clones, regions)]
+    for x0, y0, x1, y1 in regions:
+        acc = image[y0:y1, x0:x1].astype(np.float32)
+        for delta, w, (u0, v0, u1, v1) in zip(deltas, weights, regions):
+            a0, b0, a1, b1 = max(x0, u0), max(y0, v0), min(x1, u1), min(y1, v1)
+            if a0 < a1 and b0 < b1:
+                part = (slice(b0 - v0, b1 - v0), slice(a0 - u0, a1 - u0))
+                acc[b0 - y0 : b1 - y0, a0 - x0 : a1 - x0] += w[part][..., None] * delta[part]
+        out[y0:y1, x0:x1] = np.clip(np.rint(acc), 0, 255).astype(np.uint8)
+    return out
+
+
+@dataclass(frozen=True)
+class Group:
+    """A clone of several faces of one photo, prepared: each chosen face's own clone on its region, rendered as often
+    as asked (as :class:`~exprclone.pipeline.cloner.Prepared` is for one face).
+
+    Attributes
+    ----------
+    image : ndarray of shape (H, W, 3), uint8 RGB
+        The target photo.
+    faces : tuple of Found
+        Every face found in it.
+    methods : tuple of Method
+        The methods prepared.
+    options : Options
+        The clone's options.
+    cloned : tuple of tuple
+        ``(face, region, prepared)`` of each face cloned.
+    weights : tuple of ndarray
+        Each cloned face's weight over its region (:func:`weights`).
+    left : dict of int to str
+        Why each face not cloned was left as it is, by number.
+    landmarker : str or None
+        Which landmarker placed the photos' landmarks.
+    warnings : tuple of str
+        What looked wrong with the photos, and each face asked for that was left as it is.
+    """
+
+    image: np.ndarray
+    faces: tuple[Found, ...]
+    methods: tuple[Method, ...]
+    options: Options
+    cloned: tuple[tuple[Found, Region, Prepared], ...]
+    weights: tuple[np.ndarray, ...]
+    left: dict[int, str]
+    landmarker: str | None = None
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def target_size(self) -> tuple[int, int]:
+        """The target photo's ``(height, width)``."""
+        height, width = self.image.shape[:2]
+        return height, width
+
+    @property
+    def lambda_k(self) -> None:
+        """None: each face's clone has its own (:attr:`CloneResult.face_results`)."""
+        return None
+
+    def render(self, **changes: Any) -> dict[str, CloneResult]:
+        """Each method's image of the whole photo: every face cloned rendered (:meth:`Prepared.render`, with the same
+        ``changes``: the cheap part of the options) and blended back (:func:`blend`); its ``face_results`` each face's own
+        result, or why it was left as it is.
+
+        Raises
+        ------
+        ExprCloneError
+            As :meth:`Prepared.render`.
+        """
+        options = Options.of(self.options, changes)
+        rendered = [prepared.render(**changes) for _, _, prepared in self.cloned]
+        regions = [r for _, r, _ in self.cloned]
+        results = {}
+        for method in self.methods:
+            own = {face.number: (r, done[method.name]) for (face, r, _), done in zip(self.cloned, rendered)}
+            image = blend(self.image, [result.image for _, result in own.values()], regions, self.weights)
+            faces = tuple(
+                FaceResult(f.number, f.box, *own[f.number])
+                if f.number in own
+                else FaceResult(f.number, f.box, (0, 0, 0, 0), None, self.left[f.number])
+                for f in self.faces
+            )
+            shown = dataclasses.replace(options, method=method.name)
+            results[method.name] = CloneResult(
+                image, method.name, {}, options=shown, landmarker=self.landmarker, warnings=self.warnings, face_results=faces
+            )
+        return results
