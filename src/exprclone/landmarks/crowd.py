@@ -3,22 +3,26 @@
 A landmarker's own detector looks for one face on a small copy of the photo: dlib's on a
 copy at most 512 pixels wide, BlazeFace on a 128-pixel one. In a group photo 3000 pixels
 wide a face 120 pixels across is then 20 or 5 pixels, below what either finds (dlib's HOG
-window is 80 pixels, 40 upsampled; BlazeFace's short-range model wants a face from about a
-sixth of its input): only the largest faces are found. Two ways to find the others were
-measured on made group photos (:mod:`exprclone.evaluation.groups`, six London people at face
-widths from 120 to 400 pixels in 3000x2000, heads upright or turned up to 40 degrees in the
-photo's plane; ``benchmarks/faces.py``):
+window is 80 pixels, 40 upsampled; BlazeFace finds faces from about 16 of its 128 pixels):
+only the largest faces are found. Ways to find the others, measured on
+made group photos (:mod:`exprclone.evaluation.groups`: six London people at face widths from
+120 to 400 pixels in 3000x2000, heads upright or turned up to 40 degrees in the photo's
+plane, six photos) and on the 72 London portraits (``benchmarks/faces.py``):
 
+- the landmarkers' own detectors: 15 (dlib's) and 13 (BlazeFace's) of the 36 faces;
 - dlib's HOG on the photo scaled so that a 100-pixel face fills its upsampled window (0.4):
-  all 36 faces of six photos and nothing else, in 0.32 s a photo (0.11 s on a London
-  portrait of 1350 pixels);
-- BlazeFace over tiles (:func:`tiles`): all 36 in 0.16 s (0.05 s a portrait), turned
-  further than the HOG's 40 degrees too, but with boxes of background among them on some
-  photos, and boxes that are not dlib's (its shape predictor fits from the HOG's boxes).
+  all 36 and nothing else, in 0.31 s a photo (0.10 s a 1350-pixel portrait);
+- BlazeFace over tiles (:func:`tiles`, :data:`TILES`): all 36 and nothing else on these
+  photos, in 0.15 s (0.03 s a portrait), and heads turned by 60 degrees, which the HOG
+  misses, too; but with smaller tiles (512 pixels) it called background and half faces
+  faces, and its boxes are not dlib's (whose shape predictor fits from the HOG's boxes).
 
 So BlazeFace proposes, over tiles of :data:`TILES` pixels overlapping by half and over the
 whole photo, and the HOG confirms each proposal on a small crop scaled to its face
-(:func:`confirm`), giving dlib's box: a proposal the HOG does not confirm is no face. Both
+(:func:`confirm`), giving dlib's box: a proposal the HOG does not confirm is no face (nor is a
+head turned further than the HOG sees, about 45 degrees in the photo's plane). All
+36 faces, nothing else, in 0.17 s a photo (0.04 s a portrait: what looking for every face adds
+to a clone of a portrait, whose one face is then placed as before). Both
 detectors are free of the non-commercial terms of dlib's 68-point model (the HOG
 detector ships in dlib's code, BlazeFace under Apache-2.0), so the mesh landmarker
 (``--landmarker mesh``) fits its points in the same boxes.
@@ -39,9 +43,10 @@ if TYPE_CHECKING:
 #: a face box ``(left, top, right, bottom)`` in photo pixels.
 Box = tuple[float, float, float, float]
 
-#: the tiles' sides, pixels: a tile finds faces of about a sixth to a half of its side (a face larger than half a
-#: tile is whole in a larger tile; the whole photo is the last).
-TILES = (512, 1024, 2048)
+#: the tiles' sides, pixels: a tile finds faces from an eighth of its side (16 of BlazeFace's 128 pixels: it finds the
+#: London faces from 14) to a half (a larger face is whole in a larger tile): 640 finds 80 to 320 pixels, 2560 to 1280,
+#: the whole photo the larger.
+TILES = (640, 2560)
 #: two proposals overlapping by more than this share of the smaller's area are one face.
 SAME_FACE = 0.4
 #: a proposal is confirmed on a crop of this many of its box's sides, around its centre...

@@ -31,6 +31,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import cv2
 import numpy as np
 
 from ..errors import ExprCloneError
@@ -197,13 +198,19 @@ def _smooth(t: np.ndarray) -> np.ndarray:
     return t * t * (3 - 2 * t)
 
 
-def core_radius(points: np.ndarray, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
-    """Each pixel's distance from a face's centre in radii of its core (see :data:`FOREHEAD`, :data:`CORE_GROW`): an
-    ellipse over its landmarks' box and forehead, 1 on its edge; float32 of the grid ``ys``, ``xs`` broadcast."""
+def core(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A face's core: the centre ``(x, y)`` and the half-axes of an ellipse over its landmarks' box and its forehead
+    (:data:`FOREHEAD` of the box's height above it), grown by :data:`CORE_GROW`."""
     low, high = points.min(0), points.max(0)
     top = low[1] - FOREHEAD * (high[1] - low[1])
     centre = np.array([(low[0] + high[0]) / 2, (top + high[1]) / 2])
-    radii = CORE_GROW * np.array([(high[0] - low[0]) / 2, (high[1] - top) / 2])
+    return centre, CORE_GROW * np.array([(high[0] - low[0]) / 2, (high[1] - top) / 2])
+
+
+def core_radius(points: np.ndarray, ys: np.ndarray, xs: np.ndarray) -> np.ndarray:
+    """Each pixel's distance from a face's centre in radii of its :func:`core`, 1 on the core's edge; float32 of the
+    grid ``ys``, ``xs`` broadcast."""
+    centre, radii = core(points)
     return np.sqrt(((xs - centre[0]) / radii[0]) ** 2 + ((ys - centre[1]) / radii[1]) ** 2).astype(np.float32)
 
 
@@ -233,24 +240,39 @@ def weights(faces: Sequence[Found], chosen: Sequence[Found], regions: Sequence[R
     list of ndarray of shape (y1 - y0, x1 - x0), float32
         In ``[0, 1]``; their sum at a pixel is at most 1.
     """
-    raw = []
-    for face, (x0, y0, x1, y1) in zip(chosen, regions):
-        ys, xs = np.arange(y0, y1, dtype=np.float32)[:, None], np.arange(x0, x1, dtype=np.float32)[None, :]
-        feather = FEATHER * float(np.ptp(face.points[:, 0]))
-        inner = [ys - y0 if y0 > 0 else None, y1 - 1 - ys if y1 < shape[0] else None, xs - x0 if x0 > 0 else None]
-        inner.append(x1 - 1 - xs if x1 < shape[1] else None)
-        w = np.ones((y1 - y0, x1 - x0), np.float32)
-        for distance in (d for d in inner if d is not None):
-            w = w * _smooth(distance / feather)
-        own = core_radius(face.points, ys, xs)
-        for other in faces:
-            if other.number != face.number:
-                w = w * (1 - ownership(own, core_radius(other.points, ys, xs)))
-        raw.append(w.astype(np.float32))
-    total = np.zeros(shape[:2], np.float32)
-    for w, (x0, y0, x1, y1) in zip(raw, regions):
-        total[y0:y1, x0:x1] += w
-    return [w / np.maximum(total[y0:y1, x0:x1], 1.0) for w, (x0, y0, x1, y1) in zip(raw, regions)]
+    raw = [_weight(face, r, faces, shape) for face, r in zip(chosen, regions)]
+    totals = [w.copy() for w in raw]
+    for i, (x0, y0, x1, y1) in enumerate(regions):
+        for j, (u0, v0, u1, v1) in enumerate(regions):
+            a0, b0, a1, b1 = max(x0, u0), max(y0, v0), min(x1, u1), min(y1, v1)
+            if i != j and a0 < a1 and b0 < b1:
+                totals[i][b0 - y0 : b1 - y0, a0 - x0 : a1 - x0] += raw[j][b0 - v0 : b1 - v0, a0 - u0 : a1 - u0]
+    return [w / np.maximum(total, 1.0) for w, total in zip(raw, totals)]
+
+
+def _weight(face: Found, region: Region, faces: Sequence[Found], shape: tuple[int, ...]) -> np.ndarray:
+    """One chosen face's weight over its region before the regions are normalised (:func:`weights`): its edges
+    inside the photo faded, every other face's pixels taken out (:func:`ownership`), each over its core's reach."""
+    x0, y0, x1, y1 = region
+    ys, xs = np.arange(y0, y1, dtype=np.float32)[:, None], np.arange(x0, x1, dtype=np.float32)[None, :]
+    feather = FEATHER * float(np.ptp(face.points[:, 0]))
+    fade_y = _smooth((ys - y0) / feather if y0 > 0 else np.ones_like(ys)) * _smooth(
+        (y1 - 1 - ys) / feather if y1 < shape[0] else np.ones_like(ys)
+    )
+    fade_x = _smooth((xs - x0) / feather if x0 > 0 else np.ones_like(xs)) * _smooth(
+        (x1 - 1 - xs) / feather if x1 < shape[1] else np.ones_like(xs)
+    )
+    w = (fade_y * fade_x).astype(np.float32)
+    for other in faces:
+        centre, radii = core(other.points)
+        reach = (1 + CORE_FEATHER) * radii
+        a0, b0 = (max(lo, int(np.floor(c - r))) for lo, c, r in zip((x0, y0), centre, reach))
+        a1, b1 = (min(hi, int(np.ceil(c + r)) + 1) for hi, c, r in zip((x1, y1), centre, reach))
+        if other.number != face.number and a0 < a1 and b0 < b1:
+            window_y, window_x = ys[b0 - y0 : b1 - y0], xs[:, a0 - x0 : a1 - x0]
+            own = core_radius(face.points, window_y, window_x)
+            w[b0 - y0 : b1 - y0, a0 - x0 : a1 - x0] *= 1 - ownership(own, core_radius(other.points, window_y, window_x))
+    return w
 
 
 def blend(image: np.ndarray, clones: Sequence[np.ndarray], regions: Sequence[Region], weights: Sequence[np.ndarray]) -> np.ndarray:
@@ -260,15 +282,14 @@ def blend(image: np.ndarray, clones: Sequence[np.ndarray], regions: Sequence[Reg
     regions gets the same value from either.
     """
     out = image.copy()
-    deltas = [c.astype(np.float32) - image[y0:y1, x0:x1] for c, (x0, y0, x1, y1) in zip(clones, regions)]
+    changes = [w[..., None] * (c.astype(np.float32) - image[y0:y1, x0:x1]) for c, w, (x0, y0, x1, y1) in zip(clones, weights, regions)]
     for x0, y0, x1, y1 in regions:
         acc = image[y0:y1, x0:x1].astype(np.float32)
-        for delta, w, (u0, v0, u1, v1) in zip(deltas, weights, regions):
+        for change, (u0, v0, u1, v1) in zip(changes, regions):
             a0, b0, a1, b1 = max(x0, u0), max(y0, v0), min(x1, u1), min(y1, v1)
             if a0 < a1 and b0 < b1:
-                part = (slice(b0 - v0, b1 - v0), slice(a0 - u0, a1 - u0))
-                acc[b0 - y0 : b1 - y0, a0 - x0 : a1 - x0] += w[part][..., None] * delta[part]
-        out[y0:y1, x0:x1] = np.clip(np.rint(acc), 0, 255).astype(np.uint8)
+                acc[b0 - y0 : b1 - y0, a0 - x0 : a1 - x0] += change[b0 - v0 : b1 - v0, a0 - u0 : a1 - u0]
+        out[y0:y1, x0:x1] = cv2.convertScaleAbs(acc)  # rounded to the nearest level, within 0 to 255 (acc is never below 0)
     return out
 
 
