@@ -166,6 +166,32 @@ async def landmarks(server: Server, photo: Photo, asked: LandmarkerForm) -> dict
     return found
 
 
+class FaceFound(BaseModel):
+    """A face of a photo: its number in reading order (the ``faces`` field's), its box, and why it cannot be cloned."""
+
+    number: int
+    box: list[float]
+    problem: str
+
+
+class FacesFound(BaseModel):
+    """The photo's size and every face of it, in reading order."""
+
+    width: int
+    height: int
+    faces: list[FaceFound]
+
+
+@router.post("/api/faces", responses=errors(400, 413, 422, 503))
+async def faces(server: Server, photo: Photo, asked: LandmarkerForm) -> FacesFound:
+    """Every face of a photo, numbered in reading order as the ``faces`` field of ``/api/clone`` chooses them: ``box``
+    ``[left, top, right, bottom]`` in its pixels, ``problem`` why it would be left as it is (empty when it can be
+    cloned)."""
+    upload = await read_upload(photo, "photo")
+    found: dict[str, Any] = await server.run(work.faces, upload, server.settings.max_pixels, asked.options.landmarker)
+    return FacesFound(**found)
+
+
 async def clone_uploads(
     target_neutral: Photo,
     source_neutral: SourcePhoto = None,
