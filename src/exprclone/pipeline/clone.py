@@ -116,7 +116,7 @@ def prepare(
         t_neu = found[0].points
     else:
         t_neu = check_face(check_points(given[2], images[2].shape, layout.n_points, TARGET_NEUTRAL), layout, TARGET_NEUTRAL)
-        group.choose((group.Found(1, (0.0, 0.0, 0.0, 0.0), t_neu),), asked.faces)
+        group.check_count(asked.faces, 1)
     return _prepare_one((images[0], images[1], images[2]), (s_neu, s_exp, t_neu), methods, asked, placed)
 
 

@@ -166,17 +166,21 @@ def problem_of(points: np.ndarray, box: Box, shape: tuple[int, ...], layout: Lay
 
 
 def choose(faces: Sequence[Found], asked: str | tuple[int, ...]) -> tuple[Found, ...]:
-    """The faces the option ``faces`` asks for: ``"all"``, ``"largest"`` (the widest box), or numbers; ExprCloneError
-    about ``faces`` for a number the photo has no face of."""
+    """The faces the option ``faces`` asks for: ``"all"``, ``"largest"`` (the widest box), or numbers (:func:`check_count`)."""
+    check_count(asked, len(faces))
     if asked == "all":
         return tuple(faces)
     if isinstance(asked, str):  # "largest"
         return (max(faces, key=lambda f: f.across),)
-    missing = [n for n in asked if n > len(faces)]
-    if missing:
-        shown = f"{len(faces)} face" + ("s" if len(faces) > 1 else "")
-        raise ExprCloneError("faces", f"no face {missing[0]}: the photo shows {shown} (exprclone faces numbers them)")
     return tuple(f for f in faces if f.number in asked)
+
+
+def check_count(asked: str | tuple[int, ...], count: int) -> None:
+    """ExprCloneError about ``faces`` when it asks for a face number beyond the ``count`` faces of the photo."""
+    missing = [] if isinstance(asked, str) else [n for n in asked if n > count]
+    if missing:
+        shown = f"{count} face" + ("s" if count > 1 else "")
+        raise ExprCloneError("faces", f"no face {missing[0]}: the photo shows {shown} (exprclone faces numbers them)")
 
 
 def region(points: np.ndarray, shape: tuple[int, ...]) -> Region:
