@@ -11,9 +11,9 @@ plane, six photos) and on the 72 London portraits (``benchmarks/faces.py``):
 
 - the landmarkers' own detectors: 15 (dlib's) and 13 (BlazeFace's) of the 36 faces;
 - dlib's HOG on the photo scaled so that a 100-pixel face fills its upsampled window (0.4):
-  all 36 and nothing else, in 0.31 s a photo (0.10 s a 1350-pixel portrait);
+  all 36 and nothing else, in 0.30 s a photo (0.09 s a 1350-pixel portrait);
 - BlazeFace over tiles (:func:`tiles`, :data:`TILES`): all 36 and nothing else on these
-  photos, in 0.15 s (0.03 s a portrait), and heads turned by 60 degrees, which the HOG
+  photos, in 0.13 s (0.03 s a portrait), and heads turned by 60 degrees, which the HOG
   misses, too; but with smaller tiles (512 pixels) it called background and half faces
   faces, and its boxes are not dlib's (whose shape predictor fits from the HOG's boxes).
 
@@ -21,7 +21,7 @@ So BlazeFace proposes, over tiles of :data:`TILES` pixels overlapping by half an
 whole photo, and the HOG confirms each proposal on a small crop scaled to its face
 (:func:`confirm`), giving dlib's box: a proposal the HOG does not confirm is no face (nor is a
 head turned further than the HOG sees, about 45 degrees in the photo's plane). All
-36 faces, nothing else, in 0.17 s a photo (0.04 s a portrait: what looking for every face adds
+36 faces, nothing else, in 0.15 s a photo (0.04 s a portrait: what looking for every face adds
 to a clone of a portrait, whose one face is then placed as before). Both
 detectors are free of the non-commercial terms of dlib's 68-point model (the HOG
 detector ships in dlib's code, BlazeFace under Apache-2.0), so the mesh landmarker
@@ -50,7 +50,7 @@ TILES = (640, 2560)
 #: two proposals overlapping by more than this share of the smaller's area are one face.
 SAME_FACE = 0.4
 #: a proposal is confirmed on a crop of this many of its box's sides, around its centre...
-CONFIRM_CROP = 2.0
+CONFIRM_CROP = 1.6
 #: ...scaled so that its box is this many pixels wide (the HOG's window is 80; a proposal's box may be a third too large).
 CONFIRM_SIDE = 120
 #: dlib's HOG at most this far from the proposal's centre, in the proposal's box sides, is the face proposed.
