@@ -186,3 +186,12 @@ def test_given_global_landmarks_are_one_faces(made):
     image, _, found = made
     with warnings.catch_warnings(), pytest.raises(ExprCloneError, match="^global_landmarks: one face's"):
         exprclone.expressions.clone(image, "smile", target_faces=found, global_landmarks=found[0].points)
+
+
+def test_a_face_whose_landmarks_make_no_face_is_left_with_a_warning(made):
+    image, _, found = made
+    line = np.c_[np.linspace(*found[0].box[::2], 68), np.full(68, found[0].points[:, 1].mean())]
+    flat = (dataclasses.replace(found[0], points=line), *found[1:])
+    with pytest.warns(ExprCloneWarning, match=r"^target_neutral: face 1: not a face: .*; left as it is$"):
+        result = exprclone.expressions.clone(image, "smile", target_faces=flat)
+    assert [r.result is None for r in result.face_results] == [True, False, False]

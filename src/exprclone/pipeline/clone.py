@@ -153,18 +153,22 @@ def _prepare_group(
     a face that cannot be cloned left as it is, with a warning naming it."""
     if options.global_landmarks is not None:
         raise ExprCloneError("global_landmarks", f"one face's, and {TARGET_NEUTRAL} shows {len(found)}: give its landmarks too")
-    target = images[2]
+    target, layout = images[2], options.landmarks_layout
     said: list[str] = [f"{TARGET_NEUTRAL}: face {f.number}: {f.problem}; left as it is" for f in chosen if f.problem]
-    left = {f.number: f.problem or "not chosen" for f in found if f.problem or f not in chosen}
+    taken = {f.number for f in chosen}
+    left = {f.number: f.problem or "not chosen" for f in found if f.problem or f.number not in taken}
     cloned = []
     for face in (f for f in chosen if not f.problem):
         x0, y0, x1, y1 = box = group.region(face.points, target.shape)
         crop = np.ascontiguousarray(target[y0:y1, x0:x1])
         try:
+            points = check_face(check_points(face.points - (x0, y0), crop.shape, layout.n_points, TARGET_NEUTRAL), layout, TARGET_NEUTRAL)
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                one = _prepare_one((images[0], images[1], crop), (*sources, face.points - (x0, y0)), methods, options, placed)
+                one = _prepare_one((images[0], images[1], crop), (*sources, points), methods, options, placed)
         except ExprCloneError as e:
+            if e.subject != TARGET_NEUTRAL:  # an option's or a source photo's: every face's
+                raise
             said.append(f"{TARGET_NEUTRAL}: face {face.number}: {e.problem}; left as it is")
             left[face.number] = e.problem
             continue

@@ -37,14 +37,15 @@ import numpy as np
 from ..errors import ExprCloneError
 from ..landmarks import crowd
 from ..landmarks.backends import Landmarker, shared
+from ..landmarks.facemesh import MeshDetector
 from ..landmarks.layout import Layout
 from ..methods import Method
 from ..options import Options
 from .checks import check_face
 from .cloner import CloneResult, FaceResult, Prepared
 
-#: a region grows its face's landmark box by this many of the face's widths on every side (a clone of a London photo
-#: cropped so changes by at most 10 levels, PSNR 63 dB, from the clone of the whole photo).
+#: a region grows its face's landmark box by this many of the face's widths on every side (a London photo's clone made
+#: on its face's region so differs from its clone made on the whole photo by at most 10 levels, 63 dB).
 MARGIN = 0.75
 #: a region's weight rises from 0 at its edge to 1 over this many of its face's widths.
 FEATHER = 0.25
@@ -66,7 +67,7 @@ Box = tuple[float, float, float, float]
 Region = tuple[int, int, int, int]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Found:
     """A face found in a photo.
 
@@ -98,7 +99,8 @@ def find(image: np.ndarray, landmarker: Landmarker, subject: str, layout: Layout
 
     A photo with one face gives it as the landmarker's :meth:`~Landmarker.detect` finds it
     (a clone of it is the same as before faces were looked for); with several, each face's
-    landmarks are fitted in the box :func:`exprclone.landmarks.crowd.find` gives it.
+    landmarks are fitted in the box :func:`exprclone.landmarks.crowd.find` gives it (a
+    landmarker of one's own that cannot fit a box gives the face it detects).
 
     Parameters
     ----------
@@ -118,9 +120,9 @@ def find(image: np.ndarray, landmarker: Landmarker, subject: str, layout: Layout
     NoFaceError
         The photo shows no face.
     """
-    mesh = landmarker if getattr(landmarker, "name", None) == "mesh" else shared("mesh")
-    boxes = crowd.find(image, mesh)  # type: ignore[arg-type]  # (the mesh landmarker, or the shared one)
-    if len(boxes) <= 1:
+    mesh = landmarker if isinstance(landmarker, MeshDetector) else shared("mesh")
+    boxes = crowd.find(image, mesh)  # type: ignore[arg-type]  # (the shared mesh landmarker is a MeshDetector)
+    if len(boxes) <= 1 or not callable(getattr(landmarker, "fit", None)):  # (a landmarker of one's own may only detect)
         points = landmarker.detect(image, subject)
         return (Found(1, boxes[0] if boxes else _box_of(points), points),)
     faces = []
@@ -156,8 +158,9 @@ def problem_of(points: np.ndarray, box: Box, shape: tuple[int, ...], layout: Lay
     edge = CUT * float(high[0] - low[0])
     if (low < edge).any() or high[0] > shape[1] - 1 - edge or high[1] > shape[0] - 1 - edge:
         return "cut by the frame"
-    if turn(points, layout) > MAX_TURN:
-        return f"turned too far from the camera (its nose {turn(points, layout):.2f} of the way to a cheek, at most {MAX_TURN})"
+    turned = turn(points, layout)
+    if turned > MAX_TURN:
+        return f"turned too far from the camera (its nose {turned:.2f} of the way to a cheek, at most {MAX_TURN})"
     try:
         check_face(points, layout, "face")
     except ExprCloneError as e:
@@ -246,12 +249,19 @@ def weights(faces: Sequence[Found], chosen: Sequence[Found], regions: Sequence[R
     """
     raw = [_weight(face, r, faces, shape) for face, r in zip(chosen, regions)]
     totals = [w.copy() for w in raw]
-    for i, (x0, y0, x1, y1) in enumerate(regions):
-        for j, (u0, v0, u1, v1) in enumerate(regions):
-            a0, b0, a1, b1 = max(x0, u0), max(y0, v0), min(x1, u1), min(y1, v1)
-            if i != j and a0 < a1 and b0 < b1:
-                totals[i][b0 - y0 : b1 - y0, a0 - x0 : a1 - x0] += raw[j][b0 - v0 : b1 - v0, a0 - u0 : a1 - u0]
+    for i, own in enumerate(regions):
+        for j, other in enumerate(regions):
+            if i != j and (parts := _shared(own, other)):
+                totals[i][parts[0]] += raw[j][parts[1]]
     return [w / np.maximum(total, 1.0) for w, total in zip(raw, totals)]
+
+
+def _shared(a: Region, b: Region) -> tuple[tuple[slice, slice], tuple[slice, slice]] | None:
+    """Where two regions overlap, as ``(rows, columns)`` of each; None where they do not."""
+    x0, y0, x1, y1 = max(a[0], b[0]), max(a[1], b[1]), min(a[2], b[2]), min(a[3], b[3])
+    if x0 >= x1 or y0 >= y1:
+        return None
+    return (slice(y0 - a[1], y1 - a[1]), slice(x0 - a[0], x1 - a[0])), (slice(y0 - b[1], y1 - b[1]), slice(x0 - b[0], x1 - b[0]))
 
 
 def _weight(face: Found, region: Region, faces: Sequence[Found], shape: tuple[int, ...]) -> np.ndarray:
@@ -287,12 +297,12 @@ def blend(image: np.ndarray, clones: Sequence[np.ndarray], regions: Sequence[Reg
     """
     out = image.copy()
     changes = [w[..., None] * (c.astype(np.float32) - image[y0:y1, x0:x1]) for c, w, (x0, y0, x1, y1) in zip(clones, weights, regions)]
-    for x0, y0, x1, y1 in regions:
+    for own in regions:
+        x0, y0, x1, y1 = own
         acc = image[y0:y1, x0:x1].astype(np.float32)
-        for change, (u0, v0, u1, v1) in zip(changes, regions):
-            a0, b0, a1, b1 = max(x0, u0), max(y0, v0), min(x1, u1), min(y1, v1)
-            if a0 < a1 and b0 < b1:
-                acc[b0 - y0 : b1 - y0, a0 - x0 : a1 - x0] += change[b0 - v0 : b1 - v0, a0 - u0 : a1 - u0]
+        for change, other in zip(changes, regions):
+            if parts := _shared(own, other):
+                acc[parts[0]] += change[parts[1]]
         out[y0:y1, x0:x1] = cv2.convertScaleAbs(acc)  # rounded to the nearest level, within 0 to 255 (acc is never below 0)
     return out
 
