@@ -52,7 +52,7 @@ GlobalLandmarks = Annotated[MaybeFile, File(description=spec(Options, "global_la
 #: the clone's options of each route, as form fields (:func:`exprclone.server.forms.options_form`).
 CloneOptions = Annotated[Asked, Depends(options_form(Options))]
 CompareOptions = Annotated[Asked, Depends(options_form(Options, tuple(n for n in names(Options) if n != "method")))]
-VideoOptions = Annotated[Asked, Depends(options_form(Options, tuple(n for n in names(Options) if n != "global_landmarks")))]
+VideoOptions = Annotated[Asked, Depends(options_form(Options, tuple(n for n in names(Options) if n not in ("global_landmarks", "faces"))))]
 DrivingForm = Annotated[Asked, Depends(options_form(Driving))]
 FramingForm = Annotated[Asked, Depends(options_form(Framing))]
 LandmarkerForm = Annotated[Asked, Depends(options_form(Options, ("landmarker",)))]
