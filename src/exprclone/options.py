@@ -39,6 +39,8 @@ The options (beyond the method of Fig. 11 and its lambda_k):
   stages as they are.
 - ``mouth``, ``landmarker``, ``eigenfaces``, ``layout``: the mouth interior, what places the
   landmarks, the DB metric's basis and the landmarks' layout.
+- ``faces``: which faces of a target photo of several take the expression (all by default), each
+  cloned in its own region (:mod:`exprclone.pipeline.group`).
 
 The strengths, ``only`` and ``mouth`` are the cheap part (:data:`RENDER`): a prepared clone renders
 again with other values of them (:meth:`exprclone.pipeline.cloner.Prepared.render`).
@@ -243,6 +245,30 @@ def _given(value: Any, name: str) -> Any:
     return value
 
 
+#: the words ``faces`` may be besides face numbers: every face of the photo, or its largest.
+FACE_WORDS = ("all", "largest")
+
+
+def check_faces(value: Any, name: str = "faces") -> str | tuple[int, ...]:
+    """``all``, ``largest``, or face numbers from 1 (a comma-separated string is split), sorted without repeats; or
+    ExprCloneError about ``name``.
+
+    >>> check_faces("3,1"), check_faces([2]), check_faces(2), check_faces("largest")
+    ((1, 3), (2,), (2,), 'largest')
+    """
+    if value in FACE_WORDS:
+        return str(value)
+    words = value.split(",") if isinstance(value, str) else [value] if isinstance(value, int) else value
+    try:
+        numbers = [int(w) if isinstance(w, str) and w.strip().isdigit() else w for w in words]
+    except TypeError:
+        numbers = []
+    chosen = [n for n in numbers if isinstance(n, int) and not isinstance(n, bool) and n >= 1]
+    if not numbers or len(chosen) < len(numbers):
+        raise ExprCloneError(name, f"must be all, largest or face numbers from 1 (1,3: as exprclone faces lists them), got {quoted(value)}")
+    return tuple(sorted(set(chosen)))
+
+
 class Chosen:
     """What :class:`Options`, :class:`Driving` and :class:`Framing` share: fields made by :func:`option`, each checked by
     its spec as the value is made, the value made from keywords, texts or JSON, and shown by what differs from the
@@ -310,6 +336,9 @@ class Options(Chosen):
         (:mod:`exprclone.geometry.retarget`); False: the paper's stages.
     eigenfaces : Eigenfaces or None
         The DB metric's basis; None for the packaged one.
+    faces : str or tuple of int
+        Which faces of a target photo of several are cloned, each in its own region
+        (:mod:`exprclone.pipeline.group`): ``"all"``, ``"largest"``, or their numbers from 1 in reading order.
     layout : Layout or None
         The landmarks' layout; None for dlib's 68 points (:data:`~exprclone.landmarks.layout.DLIB68`).
 
@@ -433,6 +462,18 @@ class Options(Chosen):
             metavar="PATH",
             file=True,
             surfaces=frozenset({"cli"}),
+        ),
+    )
+    faces: str | tuple[int, ...] = option(
+        FACE_WORDS[0],
+        Spec(
+            "which faces of a photo of several take the expression: all, largest, or their numbers (comma-separated, in"
+            " reading order as exprclone faces lists them); each is cloned in its own region, the others left as they are",
+            check_faces,
+            also=(list,),
+            metavar="all|largest|N,N",
+            schema={"pattern": r"^(all|largest|[0-9]+(,[0-9]+)*)$"},
+            surfaces=frozenset({"cli", "form", "manifest"}),
         ),
     )
     layout: Layout | None = option(None, Spec("the landmarks' layout", _given, surfaces=frozenset()))

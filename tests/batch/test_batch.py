@@ -270,3 +270,25 @@ def test_the_report_names_the_paths_given_not_where_their_links_lead(tmp_path):
         str(links / n) for n in ("sn.jpg", "se.jpg", "tn.jpg")
     ]
     assert row["output"] == str(tmp_path / "a.png") and (tmp_path / "a.png").is_file()
+
+
+def test_a_group_photo_in_a_manifest_has_the_faces_of_its_row_cloned(tmp_path):
+    """Every face of a group target, or those of the row's own ``faces`` cell; a portrait's ``faces`` asking for a
+    second face fails its row alone."""
+    from exprclone.evaluation.groups import make
+    from exprclone.io.images import save_image
+
+    image, _ = make(samples.london(), samples.PEOPLE, (110, 170, 250), (760, 800), seed=4)
+    save_image(tmp_path / "group.png", image)
+    rows = [
+        ("126", str(tmp_path / "group.png"), "all.png", ""),
+        ("126", str(tmp_path / "group.png"), "two.png", "2"),
+        ("126", "003", "x.png", "2"),
+    ]
+    p = run(manifest(tmp_path, rows, ",faces"), "--jobs", "1", "--cache", tmp_path / "cache")
+    assert p.returncode == 1, p.stderr
+    assert [r["status"] for r in report(tmp_path)] == ["done", "done", "failed"]
+    assert report(tmp_path)[2]["error"].endswith("faces: no face 2: the photo shows 1 face (exprclone faces numbers them)")
+    sources = (load_image(samples.path("126")), load_image(samples.path("126", "smile")))
+    for name, faces in (("all.png", "all"), ("two.png", (2,))):
+        assert np.array_equal(pixels(tmp_path / name), exprclone.clone(*sources, image, faces=faces).image)

@@ -10,7 +10,7 @@ from exprclone.errors import ExprCloneWarning, NoFaceError
 from exprclone.evaluation.accuracy import point_errors, templates
 from exprclone.landmarks import blazeface
 from exprclone.landmarks.backends import shared
-from exprclone.landmarks.facemesh import MeshDetector
+from exprclone.landmarks.facemesh import MeshDetector, letterbox
 from exprclone.landmarks.layout import DLIB68
 
 
@@ -81,3 +81,14 @@ def test_no_face_and_several_faces_are_worded_as_dlibs(mesh):
     with pytest.warns(ExprCloneWarning, match="group.jpg: 2 faces found, using the largest"):
         points = mesh.detect(canvas, "group.jpg")
     assert np.median(np.linalg.norm(points - (mesh.detect(big) - (225, 0)), axis=1)) < 3
+
+
+@pytest.mark.parametrize("side", [500, 1000, 1350, 777])
+def test_a_photo_of_any_size_is_letterboxed_within_the_square(side):
+    """A side that the whole shrinking factor does not divide (500 = 3 x 166 + 2) cut rows and columns before it shrank:
+    the copy was then sized from the uncut photo, one pixel wider than the square (a ValueError, ``--landmarker mesh``
+    on a 500-pixel photo)."""
+    square, _, shift = letterbox(np.full((side, side - 1, 3), 255, np.uint8), blazeface.INPUT_SIZE)
+    filled = np.flatnonzero(square[64, :, 0])
+    assert square.shape == (128, 128, 3) and square[:, 64, 0].all()  # the photo's long side fills the square's
+    assert filled[0] == shift[0] and filled[-1] <= 127

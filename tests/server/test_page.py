@@ -194,3 +194,35 @@ def test_a_built_in_expression_needs_one_photo(page):
     assert "expression smile" in page.text_content("#result-caption")
     page.check("#source-photos")
     assert page.is_visible("[data-field=source_neutral]") and page.is_disabled("#expression")
+
+
+def test_the_faces_of_a_group_photo_are_outlined_and_a_click_leaves_one_out(page, tmp_path):
+    """Three faces outlined on the target's preview, each with a checkbox; a click on a face unticks it, and the clone
+    leaves that face as it is."""
+    from exprclone.evaluation.groups import make
+    from exprclone.io.images import save_image
+
+    image, _ = make(samples.london(), samples.PEOPLE, (110, 170, 250), (760, 800), seed=4)
+    save_image(tmp_path / "group.png", image)
+    page.reload()
+    page.check("#source-builtin")
+    page.wait_for_function("document.querySelectorAll('#expression option').length >= 2", timeout=CLONE_TIMEOUT)
+    page.select_option("#expression", "smile")
+    page.set_input_files("input[type=file][name=target_neutral]", str(tmp_path / "group.png"))
+    page.wait_for_function("document.querySelectorAll('#faces input').length === 3", timeout=CLONE_TIMEOUT)
+    assert page.is_visible("#faces") and page.is_checked("#face-2")
+    found = page.evaluate("document.querySelector('[data-field=target_neutral]').faces")
+    left, top, right, bottom = found["faces"][1]["box"]
+    canvas = page.locator("[data-field=target_neutral] canvas")
+    scale = canvas.bounding_box()["width"] / found["width"]
+    canvas.click(position={"x": (left + right) / 2 * scale, "y": (top + bottom) / 2 * scale})
+    assert not page.is_checked("#face-2") and page.is_checked("#face-1")
+    page.click("#clone")
+    page.wait_for_function(
+        "document.querySelector('#busy').hidden && document.querySelector('img#result').naturalWidth > 0", timeout=CLONE_TIMEOUT
+    )
+    assert page.is_hidden("#error"), page.text_content("#error")
+    assert "faces 1,3 of 3" in page.text_content("#result-caption")
+    page.check("#face-2")  # the keyboard's way: its checkbox
+    page.set_input_files("input[type=file][name=target_neutral]", str(samples.path("003")))
+    page.wait_for_function("document.querySelector('#faces').hidden", timeout=CLONE_TIMEOUT)

@@ -3,7 +3,9 @@
 1. Rows whose output exists are skipped (unless ``overwrite``): a job interrupted and run
    again does only what is left.
 2. Each distinct photo (by content: the SHA-256 of its bytes) is detected once, however
-   many rows use it; with a cache folder its landmarks persist between runs.
+   many rows use it: every face of it (:func:`exprclone.pipeline.group.find`; a target of several
+   faces has the ones its row's ``faces`` chooses cloned, each in its own region, a source's
+   photo its largest taken); with a cache folder its faces persist between runs.
 3. Rows that share a source's neutral photo and a target go together, so the work that
    depends on the two neutral faces (:class:`exprclone.Cloner`) is done once.
 
@@ -26,7 +28,7 @@ from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
-from typing import IO, Any
+from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -38,6 +40,9 @@ from ..landmarks.backends import name_of
 from ..options import Options
 from . import work
 from .manifest import COLUMNS, Row
+
+if TYPE_CHECKING:
+    from ..pipeline.group import Found
 
 #: photos detected per task.
 DETECT_CHUNK = 8
@@ -117,48 +122,65 @@ def fingerprint(path: str) -> str | None:
 
 def find_landmarks(
     photos: Iterable[str], run: Map, cache: Path | None, progress: Progress, landmarker: str
-) -> tuple[dict[str, np.ndarray], dict[str, str]]:
-    """Every photo's landmarks placed by ``landmarker``, each distinct content detected once (or read from ``cache``,
-    where each landmarker's are kept apart).
+) -> tuple[dict[str, np.ndarray], dict[str, str], dict[str, tuple[Found, ...]]]:
+    """Every photo's faces, their landmarks placed by ``landmarker``, each distinct content detected once (or read from
+    ``cache``, where each landmarker's are kept apart).
 
     Returns
     -------
     landmarks : dict of path to ndarray
+        Each photo's face's landmarks (of a photo of several, the largest's, as a source's photo is taken).
     problems : dict of path to str
         Why a photo has none (no such file, not an image, no face).
+    groups : dict of path to tuple of Found
+        Every face of each photo that shows several (:func:`exprclone.pipeline.group.find`).
     """
     digests = {p: fingerprint(p) for p in dict.fromkeys(photos)}
     problems = {p: "no such file, or it cannot be read" for p, d in digests.items() if d is None}
     readable = {p: d for p, d in digests.items() if d is not None}
-    found: dict[str, np.ndarray | str | None] = {d: _cached(cache, d, landmarker) for d in set(readable.values())}
-    missing = sorted(d for d, points in found.items() if points is None)
+    found: dict[str, tuple[Found, ...] | str | None] = {d: _cached(cache, d, landmarker) for d in set(readable.values())}
+    missing = sorted(d for d, faces in found.items() if faces is None)
     first_path = {d: p for p, d in reversed(readable.items())}
     chunks = [missing[k : k + DETECT_CHUNK] for k in range(0, len(missing), DETECT_CHUNK)]
     bar, done = progress(len(missing), "photos"), 0
     for k, results in run(functools.partial(work.detect, landmarker=landmarker), [[first_path[d] for d in chunk] for chunk in chunks]):
-        for digest, (points, problem) in zip(chunks[k], results):
-            found[digest] = points if points is not None else problem
-            if cache is not None and points is not None:
-                (cache / f"{digest}-{landmarker}.json").write_text(json.dumps({"landmarks": points.tolist()}))
+        for digest, (faces, problem) in zip(chunks[k], results):
+            found[digest] = faces if faces is not None else problem
+            if cache is not None and faces is not None:
+                (cache / f"{digest}-{landmarker}.json").write_text(json.dumps({"faces": [_face_record(f) for f in faces]}))
         done += len(chunks[k])
         bar.update(done)
-    landmarks = {}
+    landmarks, groups = {}, {}
     for path, digest in readable.items():
         value = found[digest]
-        if isinstance(value, np.ndarray):
-            landmarks[path] = value
-        elif isinstance(value, str):
+        if isinstance(value, str):
             problems[path] = value
-    return landmarks, problems
+        elif value is not None:
+            landmarks[path] = max(value, key=lambda f: f.across).points
+            if len(value) > 1:
+                groups[path] = value
+    return landmarks, problems, groups
 
 
-def _cached(cache: Path | None, digest: str, landmarker: str) -> np.ndarray | None:
+def _face_record(face: Found) -> dict[str, Any]:
+    return {"number": face.number, "box": list(face.box), "landmarks": face.points.tolist(), "problem": face.problem}
+
+
+def _cached(cache: Path | None, digest: str, landmarker: str) -> tuple[Found, ...] | None:
+    """The faces kept in ``cache`` of a photo by its digest, or None (a file of an older version kept no faces)."""
+    from ..pipeline.group import Found
+
     path = None if cache is None else cache / f"{digest}-{landmarker}.json"
-    return None if path is None or not path.is_file() else np.array(json.loads(path.read_text())["landmarks"], float)
+    if path is None or not path.is_file() or "faces" not in (document := json.loads(path.read_text())):
+        return None
+    return tuple(Found(f["number"], tuple(f["box"]), np.array(f["landmarks"], float), f["problem"]) for f in document["faces"])
 
 
-def make_tasks(rows: list[Row], landmarks: dict[str, np.ndarray], options: Options) -> list[work.Task]:
-    """Rows grouped by source neutral photo and target, in tasks of at most :data:`CLONE_CHUNK` rows."""
+def make_tasks(
+    rows: list[Row], landmarks: dict[str, np.ndarray], options: Options, several: dict[str, tuple[Found, ...]] | None = None
+) -> list[work.Task]:
+    """Rows grouped by source neutral photo and target, in tasks of at most :data:`CLONE_CHUNK` rows; with the faces of
+    their targets that show several (``several``, by path)."""
     groups: dict[tuple[str, str], list[Row]] = {}
     for row in rows:
         groups.setdefault((row.source_neutral, row.target_neutral), []).append(row)
@@ -166,7 +188,8 @@ def make_tasks(rows: list[Row], landmarks: dict[str, np.ndarray], options: Optio
     for group in groups.values():
         for k in range(0, len(group), CLONE_CHUNK):
             chunk = tuple(group[k : k + CLONE_CHUNK])
-            tasks.append(work.Task(chunk, {p: landmarks[p] for row in chunk for p in row.photos}, options))
+            shown = {row.target_neutral: faces for row in chunk if (faces := (several or {}).get(row.target_neutral))}
+            tasks.append(work.Task(chunk, {p: landmarks[p] for row in chunk for p in row.photos}, options, shown))
     return tasks
 
 
@@ -196,7 +219,7 @@ def run(
         cache.mkdir(parents=True, exist_ok=True)
     with backend.running() as map_:
         photos = (p for row in to_do for p in row.photos if p not in known)
-        landmarks, problems = find_landmarks(photos, map_, cache, progress, name_of(options.landmarker))
+        landmarks, problems, groups = find_landmarks(photos, map_, cache, progress, name_of(options.landmarker))
         landmarks.update(known)
         ready = []
         for row in to_do:
@@ -205,7 +228,7 @@ def run(
                 ready.append(row)
             else:
                 outcomes[row.number] = work.Outcome(row.number, "failed", f"{bad}: {problems[bad]}")
-        _clone(make_tasks(ready, landmarks, options), map_, outcomes, progress(len(ready), "pairs"))
+        _clone(make_tasks(ready, landmarks, options, groups), map_, outcomes, progress(len(ready), "pairs"))
 
 
 def _clone(tasks: list[work.Task], map_: Map, outcomes: dict[int, work.Outcome], bar: Display) -> None:

@@ -26,15 +26,18 @@ from .manifest import Row
 if TYPE_CHECKING:
     from ..pipeline import role_check
     from ..pipeline.cloner import Cloner
+    from ..pipeline.group import Found
 
 
 @dataclass(frozen=True)
 class Task:
-    """Rows that share a source's neutral photo and a target (prepared once for all of them), and every photo's landmarks."""
+    """Rows that share a source's neutral photo and a target (prepared once for all of them), every photo's landmarks
+    (of a photo of several faces, its largest's), and the faces of a target that shows several."""
 
     rows: tuple[Row, ...]
     landmarks: dict[str, np.ndarray] = field(repr=False)
     options: Options = Options()
+    groups: dict[str, tuple[Found, ...]] = field(default_factory=dict, repr=False)
 
 
 @dataclass(frozen=True)
@@ -50,19 +53,22 @@ class Outcome:
     warnings: tuple[str, ...] = ()
 
 
-def detect(paths: list[str], landmarker: str) -> list[tuple[np.ndarray | None, str]]:
-    """The landmarks of each photo placed by ``landmarker``, or the problem that stopped them (no face, not an image)."""
+def detect(paths: list[str], landmarker: str) -> list[tuple[tuple[Found, ...] | None, str]]:
+    """Every face of each photo, its landmarks placed by ``landmarker`` (:func:`exprclone.pipeline.group.find`), or the
+    problem that stopped them (no face, not an image)."""
     from ..io.images import load_image
     from ..landmarks.backends import shared
+    from ..landmarks.layout import DLIB68
+    from ..pipeline import group
 
     keep_buffers()
 
-    found: list[tuple[np.ndarray | None, str]] = []
+    found: list[tuple[tuple[Found, ...] | None, str]] = []
     for path in paths:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                found.append((shared(landmarker).detect(load_image(path), path), ""))
+                found.append((group.find(load_image(path), shared(landmarker), path, DLIB68), ""))
         except ExprCloneError as e:
             found.append((None, e.problem))
     return found
@@ -76,6 +82,8 @@ def clone_rows(task: Task) -> list[Outcome]:
 
     keep_buffers()
     start, first = time.perf_counter(), task.rows[0]
+    if first.target_neutral in task.groups:
+        return [_clone_group_row(row, task, time.perf_counter()) for row in task.rows]
     try:
         with warnings.catch_warnings(), naming({SOURCE_NEUTRAL: first.source_neutral, TARGET_NEUTRAL: first.target_neutral}):
             warnings.simplefilter("ignore")
@@ -96,16 +104,40 @@ def clone_rows(task: Task) -> list[Outcome]:
     return outcomes
 
 
+def _clone_group_row(row: Row, task: Task, start: float) -> Outcome:
+    """One row whose target shows several faces: each face its options choose cloned in its own region
+    (:mod:`exprclone.pipeline.group`), the output written."""
+    from ..io.images import load_image, save_image
+    from ..pipeline.clone import clone
+
+    names = dict(zip((SOURCE_NEUTRAL, SOURCE_EXPRESSION, TARGET_NEUTRAL), row.photos))
+    try:
+        with warnings.catch_warnings(), naming(names):
+            warnings.simplefilter("ignore")
+            images = [load_image(p) for p in row.photos]
+            points = (task.landmarks[row.source_neutral], task.landmarks[row.source_expression], None)
+            options = Options.from_text(dict(row.cells), task.options)
+            result = clone(*images, landmarks=points, options=options, target_faces=task.groups[row.target_neutral])
+            save_image(row.output, result.image, inputs=row.photos)
+    except ExprCloneError as e:
+        return Outcome(row.number, "failed", str(e), seconds=time.perf_counter() - start)
+    except Exception as e:  # a bug, not the input's fault: the row fails, the job goes on
+        return Outcome(row.number, "failed", f"internal error ({type(e).__name__}: {e})", seconds=time.perf_counter() - start)
+    return Outcome(row.number, "done", "", None, time.perf_counter() - start, result.warnings)
+
+
 def _clone_row(cloner: Cloner, photos: tuple[role_check.Photo, role_check.Photo], row: Row, task: Task, start: float) -> Outcome:
     """One row on the prepared faces: its expression cloned by its method, the output written, its photos checked
     (:func:`exprclone.pipeline.role_check.judge_roles`; ``photos`` are the source's neutral photo's and the target's)."""
     from ..io.images import load_image, save_image
     from ..pipeline import role_check
+    from ..pipeline.group import check_count
 
     try:
         with warnings.catch_warnings(), naming({SOURCE_EXPRESSION: row.source_expression}):
             warnings.simplefilter("ignore")
             own = cloner.changed(Options.from_text(dict(row.cells), task.options)) if row.cells else cloner
+            check_count(own.options.faces, 1)
             method = own.options.method
             expression = load_image(row.source_expression)
             points = task.landmarks[row.source_expression]

@@ -4,9 +4,13 @@ from __future__ import annotations
 
 import argparse
 import json
+from typing import TYPE_CHECKING
 
 from ..options import REGIONS, Options
 from .inputs import add_inputs, load_inputs, source_photos
+
+if TYPE_CHECKING:
+    from ..pipeline.cloner import CloneResult
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -33,7 +37,15 @@ def run(args: argparse.Namespace) -> None:
         atomic_write(args.save_json, lambda f: f.write(record))
     extra = "" if result.lambda_k is None else f", lambda_k={result.lambda_k:g}"
     source = "" if args.expression is None else f", expression {args.expression}"
-    print(f"{args.output}: {method}{source}{extra}{describe(result.options)}")
+    print(f"{args.output}: {method}{source}{extra}{faces_cloned(result)}{describe(result.options)}")
+
+
+def faces_cloned(result: CloneResult) -> str:
+    """The faces of a photo of several that were cloned, for the last line: ``, faces 1,2,4 of 5`` (none for one face)."""
+    if not result.face_results:
+        return ""
+    done = [str(face.number) for face in result.face_results if face.result is not None]
+    return f", face{'s' if len(done) != 1 else ''} {','.join(done) or 'none'} of {len(result.face_results)}"
 
 
 def describe(options: Options) -> str:

@@ -24,7 +24,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..evaluation.figures import draw, figure_request
+    from ..evaluation.figures import draw, figure_request, one_face
     from ..io.images import check_output_path, save_image
 
     paths = source_photos(args)
@@ -33,5 +33,6 @@ def run(args: argparse.Namespace) -> None:
     methods, options = figure_request(args.figure, inputs.options, args.global_warp is not None)
     results = replace(inputs, options=options).clone(methods)
     save_image(args.output, draw(args.figure, results, inputs.images), inputs=paths)
+    results, _ = one_face(results, inputs.images)
     shown = f"{len(methods)} methods" if len(methods) > 2 else f"the elastic model on global warp {results['global'].options.global_stage}"
     print(f"{args.output}: Fig. {args.figure}, {shown}, lambda_k={results['elastic'].lambda_k:g}")

@@ -17,8 +17,9 @@ if TYPE_CHECKING:
     from ..drive import Recording
     from ..io.video import VideoInfo
 
-#: the clone's options a video takes: all but given GI (one set of landmarks for every frame).
-CLONE = tuple(n for n in names(Options) if n != "global_landmarks")
+#: the clone's options a video takes: all but given GI (one set of landmarks for every frame) and faces (a video drives
+#: one portrait's face).
+CLONE = tuple(n for n in names(Options) if n not in ("global_landmarks", "faces"))
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:

@@ -20,6 +20,7 @@ from dataclasses import replace
 import cv2
 import numpy as np
 
+from ..errors import ExprCloneError
 from ..geometry.db_metric import DBCurve
 from ..imaging import raster
 from ..methods import FIGURES, METHODS, TABLE
@@ -141,7 +142,10 @@ def fig19(results: dict[str, CloneResult], target_neutral: np.ndarray, source_ex
 
 def figure_request(figure: str, options: Options, global_warp_asked: bool) -> tuple[tuple[str, ...], Options]:
     """The methods and the clone options that ``figure`` (one of :data:`FIGURES`) needs: Fig. 19 shows the RBF
-    transfer unless a global warp was asked for (``global_warp_asked``) or its landmarks are given."""
+    transfer unless a global warp was asked for (``global_warp_asked``) or its landmarks are given. A figure shows one
+    face: of a photo of several, the largest unless ``faces`` chose others (the first of them is shown)."""
+    if options.faces == "all":
+        options = replace(options, faces="largest")
     if figure == FIGURES[0]:
         return METHODS, options
     if not global_warp_asked and options.global_landmarks is None:
@@ -149,6 +153,22 @@ def figure_request(figure: str, options: Options, global_warp_asked: bool) -> tu
     return FIG19, options
 
 
+def one_face(results: dict[str, CloneResult], images: Sequence[np.ndarray]) -> tuple[dict[str, CloneResult], Sequence[np.ndarray]]:
+    """The results and the three photos of the face a figure shows: of a photo of several faces, the first one cloned
+    (its own results, and its region as the target's photo); else as they are. ExprCloneError when none was cloned."""
+    faces = next(iter(results.values())).face_results
+    if not faces:
+        return results, images
+    cloned = [k for k, face in enumerate(faces) if face.result is not None]
+    if not cloned:
+        raise ExprCloneError("faces", "no face of the photo could be cloned, and a figure shows one")
+    x0, y0, x1, y1 = faces[cloned[0]].region
+    own = {method: result.face_results[cloned[0]].result for method, result in results.items()}
+    return {m: r for m, r in own.items() if r is not None}, (images[0], images[1], images[2][y0:y1, x0:x1])
+
+
 def draw(figure: str, results: dict[str, CloneResult], images: Sequence[np.ndarray]) -> np.ndarray:
-    """``figure`` (one of :data:`FIGURES`) of the results of :func:`figure_request`'s methods on the three photos."""
+    """``figure`` (one of :data:`FIGURES`) of the results of :func:`figure_request`'s methods on the three photos (of
+    the one face it shows, :func:`one_face`)."""
+    results, images = one_face(results, images)
     return sheet(results, images[1]) if figure == FIGURES[0] else fig19(results, images[2], images[1])

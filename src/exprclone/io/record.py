@@ -5,8 +5,12 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
+from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL
+
 if TYPE_CHECKING:
-    from ..pipeline.cloner import CloneResult
+    import numpy as np
+
+    from ..pipeline.cloner import CloneResult, FaceResult
 
 
 def json_number(value: float | str | None) -> float | str | None:
@@ -32,7 +36,10 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
         all were given), ``options`` (``global_warp``: similarity, rbf or given;
         ``image_warp``, ``strength``, ``only``, ``retarget``), ``lambda_k``, ``db_curve`` (lambda_k and
         DB of each candidate), ``muscle_strengths``, ``unfolded_points``, ``warnings`` (what looked
-        wrong with the inputs, :func:`exprclone.pipeline.role_check.judge_roles`) and ``landmarks`` (of each stage, to 1/1000 pixel).
+        wrong with the inputs, :func:`exprclone.pipeline.role_check.judge_roles`), ``landmarks`` (of each stage, to 1/1000 pixel)
+        and ``faces``: for a photo of several faces, each one's ``number``, ``box``, ``region``, ``problem`` (why it was
+        left as it is), ``lambda_k`` and ``landmarks`` (in the photo's pixels; those of the source's photos in theirs);
+        empty for a photo of one.
     """
     curve, options = result.db_curve, result.options
     return {
@@ -55,5 +62,26 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
         "muscle_strengths": None if result.muscle_strengths is None else [float(h) for h in result.muscle_strengths],
         "unfolded_points": result.unfolded_points,
         "warnings": list(result.warnings),
-        "landmarks": {k: v.round(3).tolist() for k, v in result.landmarks.items()},
+        "landmarks": _landmarks(result.landmarks),
+        "faces": [_face(face) for face in result.face_results],
+    }
+
+
+def _landmarks(landmarks: dict[str, np.ndarray], shift: tuple[int, int] = (0, 0)) -> dict[str, list[list[float]]]:
+    """Each stage's landmarks to 1/1000 pixel, those in the target's photo moved by ``shift`` (a region's corner)."""
+    sources = (SOURCE_NEUTRAL, SOURCE_EXPRESSION)
+    return {k: (v if k in sources else v + shift).round(3).tolist() for k, v in landmarks.items()}
+
+
+def _face(face: FaceResult) -> dict[str, Any]:
+    """One face of a photo of several: its number, box, region, why it was left as it is, and its clone's lambda_k and
+    landmarks (in the photo's pixels; the photos of the source its own)."""
+    done = face.result
+    return {
+        "number": face.number,
+        "box": [round(v, 1) for v in face.box],
+        "region": list(face.region),
+        "problem": face.problem,
+        "lambda_k": None if done is None else json_number(done.lambda_k),
+        "landmarks": None if done is None else _landmarks(done.landmarks, face.region[:2]),
     }

@@ -5,4 +5,5 @@
 - :mod:`.lips`: the inner-lip polygon kept valid.
 - :mod:`.backends`: the landmarkers by name, each loaded once: dlib's (:mod:`.dlib`) and
   MediaPipe's face mesh (:mod:`.facemesh`, with :mod:`.blazeface` and :mod:`.mesh_layout`).
+- :mod:`.crowd`: every face of a group photo, small or large (BlazeFace proposes, dlib's HOG confirms).
 """

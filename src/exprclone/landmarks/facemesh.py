@@ -153,7 +153,8 @@ def letterbox(image: np.ndarray, size: int) -> tuple[np.ndarray, float, np.ndarr
     if k > 1:
         image = cv2.resize(image[: h - h % k, : w - w % k], None, fx=1 / k, fy=1 / k, interpolation=cv2.INTER_AREA)
     scale = size / (k * max(image.shape[:2]))
-    fitted = (max(1, round(w * scale)), max(1, round(h * scale)))
+    # the shrunk copy fills the square's side (the rows and columns cut to make k divide it are not in it)
+    fitted = (max(1, round(image.shape[1] * k * scale)), max(1, round(image.shape[0] * k * scale)))
     small = cv2.resize(image, fitted, interpolation=cv2.INTER_LINEAR)
     x0, y0 = (size - fitted[0]) // 2, (size - fitted[1]) // 2
     square = np.zeros((size, size, 3), np.uint8)

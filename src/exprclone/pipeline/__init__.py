@@ -6,5 +6,6 @@
 - :mod:`.stages`: the shape stages (GI, LI, the elastic model) as functions over prepared data.
 - :mod:`.cloner`: the two neutral faces prepared once, and what a clone gives.
 - :mod:`.role_check`: whether the source's two photos are in their roles.
+- :mod:`.group`: a photo of several faces, each cloned in its own region and blended back.
 - :mod:`.clone`: the entry points, :func:`exprclone.clone` and :func:`exprclone.clone_methods`.
 """

@@ -20,16 +20,17 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
-from ..errors import ExprCloneWarning
+from ..errors import ExprCloneError, ExprCloneWarning
 from ..landmarks.backends import name_of, resolve
 from ..methods import METHODS, lookup
 from ..options import Options
-from ..roles import ROLES
-from . import role_check
+from ..roles import ROLES, TARGET_NEUTRAL
+from . import group, role_check
 from .checks import check_face, check_image, check_points
 from .cloner import Cloner, CloneResult, Prepared
 
@@ -47,10 +48,14 @@ def prepare(
     *,
     landmarks: Landmarks | None = None,
     options: Options | None = None,
+    target_faces: Sequence[group.Found] | None = None,
     **keywords: Any,
-) -> Prepared:
+) -> Prepared | group.Group:
     """The three photos checked, their landmarks found, and the source's expression prepared on the two neutral faces:
     everything a clone costs but its render, which is then as cheap as the options' :data:`~exprclone.options.RENDER`.
+
+    A target photo of several faces is prepared face by face, each chosen face (the options' ``faces``) on its own
+    region of the photo (:mod:`exprclone.pipeline.group`).
 
     Parameters
     ----------
@@ -60,17 +65,22 @@ def prepare(
         The methods to prepare (any of :data:`METHODS`, sharing the stages they have in common); the options' ``method``
         alone by default.
     landmarks : tuple of three (N, 2) arrays or None, optional
-        Known landmarks for each photo; None entries are placed by the options' ``landmarker``.
+        Known landmarks for each photo; None entries are placed by the options' ``landmarker``. Given target
+        landmarks are one face's: the photo is cloned whole, for that face.
     options : Options, optional
         How the clone is made (:class:`~exprclone.options.Options`); the defaults if None.
+    target_faces : sequence of Found, optional
+        The faces of the target photo when they have been found (:func:`exprclone.pipeline.group.find`), instead of
+        finding them again; not with given target landmarks.
     **keywords
         Options as keywords (``strength=0.5``), changing ``options``.
 
     Returns
     -------
-    Prepared
-        Its :meth:`~exprclone.pipeline.cloner.Prepared.render` gives one :class:`CloneResult` per method, with the
-        options or other values of their cheap part (the strengths, ``only``, ``mouth``).
+    Prepared or Group
+        Its ``render`` gives one :class:`CloneResult` per method, with the options or other values of their cheap part
+        (the strengths, ``only``, ``mouth``); a :class:`~exprclone.pipeline.group.Group` for a target photo of several
+        faces.
 
     Raises
     ------
@@ -93,18 +103,82 @@ def prepare(
     images = [check_image(im, role) for im, role in zip((source_neutral, source_expression, target_neutral), ROLES)]
     given = landmarks if landmarks is not None else (None, None, None)
     layout, detector = asked.landmarks_layout, resolve(asked.landmarker)
-    s_neu, s_exp, t_neu = (
+    s_neu, s_exp = (
         detector.detect(im, role) if p is None else check_face(check_points(p, im.shape, layout.n_points, role), layout, role)
-        for im, p, role in zip(images, given, ROLES)
+        for im, p, role in zip(images[:2], given[:2], ROLES[:2])
     )
-    cloner = Cloner(images[0], s_neu, images[2], t_neu, asked)
-    neutral, expression, target = (role_check.Photo.of(im, p, layout) for im, p in zip(images, (s_neu, s_exp, t_neu)))
+    placed = name_of(asked.landmarker) if any(p is None for p in given) else None
+    if given[2] is None:
+        found = tuple(target_faces) if target_faces is not None else group.find(images[2], detector, TARGET_NEUTRAL, layout)
+        chosen = group.choose(found, asked.faces)
+        if len(found) > 1:
+            return _prepare_group(images, (s_neu, s_exp), found, chosen, methods, asked, placed)
+        t_neu = found[0].points
+    else:
+        t_neu = check_face(check_points(given[2], images[2].shape, layout.n_points, TARGET_NEUTRAL), layout, TARGET_NEUTRAL)
+        group.check_count(asked.faces, 1)
+    return _prepare_one((images[0], images[1], images[2]), (s_neu, s_exp, t_neu), methods, asked, placed)
+
+
+def _prepare_one(
+    images: tuple[np.ndarray, np.ndarray, np.ndarray],
+    points: tuple[np.ndarray, np.ndarray, np.ndarray],
+    methods: tuple[str, ...] | None,
+    options: Options,
+    placed: str | None,
+    stacklevel: int = 4,
+) -> Prepared:
+    """One face's clone prepared (:func:`prepare`): the photos and their landmarks, checked; what looked wrong with the
+    photos issued as warnings (``stacklevel`` as :func:`warnings.warn`'s, from here)."""
+    layout = options.landmarks_layout
+    cloner = Cloner(images[0], points[0], images[2], points[2], options)
+    neutral, expression, target = (role_check.Photo.of(im, p, layout) for im, p in zip(images, points))
     said = tuple(role_check.judge_roles(neutral, expression, layout, target))
     for message in said:
-        warnings.warn(message, ExprCloneWarning, stacklevel=3)
-    prepared = cloner.prepare(images[1], s_exp, methods, crop=expression.crop)
-    placed = name_of(asked.landmarker) if any(p is None for p in given) else None
+        warnings.warn(message, ExprCloneWarning, stacklevel=stacklevel)
+    prepared = cloner.prepare(images[1], points[1], methods, crop=expression.crop)
     return dataclasses.replace(prepared, landmarker=placed, warnings=said)
+
+
+def _prepare_group(
+    images: list[np.ndarray],
+    sources: tuple[np.ndarray, np.ndarray],
+    found: tuple[group.Found, ...],
+    chosen: tuple[group.Found, ...],
+    methods: tuple[str, ...] | None,
+    options: Options,
+    placed: str | None,
+) -> group.Group:
+    """Several faces' clones prepared (:func:`prepare`), each chosen face's on its region (:mod:`exprclone.pipeline.group`);
+    a face that cannot be cloned left as it is, with a warning naming it."""
+    if options.global_landmarks is not None:
+        raise ExprCloneError("global_landmarks", f"one face's, and {TARGET_NEUTRAL} shows {len(found)}: give its landmarks too")
+    target, layout = images[2], options.landmarks_layout
+    said: list[str] = [f"{TARGET_NEUTRAL}: face {f.number}: {f.problem}; left as it is" for f in chosen if f.problem]
+    taken = {f.number for f in chosen}
+    left = {f.number: f.problem or "not chosen" for f in found if f.problem or f.number not in taken}
+    cloned = []
+    for face in (f for f in chosen if not f.problem):
+        x0, y0, x1, y1 = box = group.region(face.points, target.shape)
+        crop = np.ascontiguousarray(target[y0:y1, x0:x1])
+        try:
+            points = check_face(check_points(face.points - (x0, y0), crop.shape, layout.n_points, TARGET_NEUTRAL), layout, TARGET_NEUTRAL)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                one = _prepare_one((images[0], images[1], crop), (*sources, points), methods, options, placed)
+        except ExprCloneError as e:
+            if e.subject != TARGET_NEUTRAL:  # an option's or a source photo's: every face's
+                raise
+            said.append(f"{TARGET_NEUTRAL}: face {face.number}: {e.problem}; left as it is")
+            left[face.number] = e.problem
+            continue
+        said += [str(w.message) for w in caught if str(w.message) not in said]
+        cloned.append((face, box, one))
+    for message in said:
+        warnings.warn(message, ExprCloneWarning, stacklevel=3)
+    weights = group.weights(found, [f for f, _, _ in cloned], [r for _, r, _ in cloned], target.shape)
+    chosen_methods = lookup(methods or (options.method,))
+    return group.Group(target, found, chosen_methods, options, tuple(cloned), tuple(weights), left, placed, tuple(said))
 
 
 def clone(
@@ -114,6 +188,7 @@ def clone(
     *,
     landmarks: Landmarks | None = None,
     options: Options | None = None,
+    target_faces: Sequence[group.Found] | None = None,
     **keywords: Any,
 ) -> CloneResult:
     """Put the source's expression on the target's face: :func:`prepare` and render, by the options' ``method``.
@@ -122,14 +197,15 @@ def clone(
     ----------
     source_neutral, source_expression, target_neutral : ndarray of shape (H, W, 3), uint8 RGB
         The three photos; they may differ in size.
-    landmarks, options, **keywords
+    landmarks, options, target_faces, **keywords
         As for :func:`prepare`: ``method="e+md"``, ``lambda_k="auto"`` (the elasticity ratio ``k_A' / k_N`` of
         Eq. 6; "auto" picks it by the DB metric, Eq. 8), ``strength=0.5``, ... (:class:`~exprclone.options.Options`).
 
     Returns
     -------
     CloneResult
-        The image at the target photo's size, and every intermediate stage.
+        The image at the target photo's size, and every intermediate stage; for a target photo of several faces, the
+        whole photo with every chosen face cloned, and each face's own clone in its ``face_results``.
 
     Raises
     ------
@@ -163,7 +239,9 @@ def clone(
     ...
     exprclone.errors.NoFaceError: target_neutral: no face found (use a frontal photo, or give its landmarks)
     """
-    prepared = prepare(source_neutral, source_expression, target_neutral, landmarks=landmarks, options=options, **keywords)
+    prepared = prepare(
+        source_neutral, source_expression, target_neutral, landmarks=landmarks, options=options, target_faces=target_faces, **keywords
+    )
     return prepared.render()[prepared.methods[0].name]
 
 
@@ -175,13 +253,14 @@ def clone_methods(
     *,
     landmarks: Landmarks | None = None,
     options: Options | None = None,
+    target_faces: Sequence[group.Found] | None = None,
     **keywords: Any,
 ) -> dict[str, CloneResult]:
     """Several methods at once, sharing the stages they have in common (Fig. 5): :func:`prepare` and render.
 
     Parameters
     ----------
-    source_neutral, source_expression, target_neutral, landmarks, options, **keywords
+    source_neutral, source_expression, target_neutral, landmarks, options, target_faces, **keywords
         As for :func:`prepare` (the options' ``method`` is not used).
     methods : tuple of str
         Any of :data:`METHODS`.
@@ -199,4 +278,13 @@ def clone_methods(
     >>> list(results), results["global"].lambda_k is None
     (['global', 'e+md'], True)
     """
-    return prepare(source_neutral, source_expression, target_neutral, methods, landmarks=landmarks, options=options, **keywords).render()
+    return prepare(
+        source_neutral,
+        source_expression,
+        target_neutral,
+        methods,
+        landmarks=landmarks,
+        options=options,
+        target_faces=target_faces,
+        **keywords,
+    ).render()

@@ -73,6 +73,11 @@ class CloneResult:
         None when all were given.
     warnings : tuple of str
         What looked wrong with the inputs (:func:`exprclone.pipeline.role_check.judge_roles`), also issued as ExprCloneWarnings.
+    face_results : tuple of FaceResult
+        For a target photo of several faces (:mod:`exprclone.pipeline.group`), each face found, in reading order: its
+        own clone in its region, or why it was left as it is. ``image`` is then the whole photo; the fields of one
+        clone (``landmarks``, ``lambda_k``, the masks...) are each face's, and empty or None here. Empty for a photo
+        of one face.
 
     See Also
     --------
@@ -104,6 +109,33 @@ class CloneResult:
     options: Options = Options()
     landmarker: str | None = None
     warnings: tuple[str, ...] = ()
+    face_results: tuple[FaceResult, ...] = ()
+
+
+@dataclass(frozen=True)
+class FaceResult:
+    """One face of a target photo of several (:attr:`CloneResult.face_results`).
+
+    Attributes
+    ----------
+    number : int
+        Its number in reading order, from 1 (as ``exprclone faces`` lists them).
+    box : tuple of float
+        Its box ``(left, top, right, bottom)`` in the photo.
+    region : tuple of int
+        ``(x0, y0, x1, y1)``: the part of the photo its clone was made on, the target photo of ``result``.
+    result : CloneResult or None
+        Its clone, in its region's pixels (add ``(x0, y0)`` to its landmarks for the photo's); None when it was left as
+        it is.
+    problem : str
+        Why it was left as it is (not chosen, too small...); empty when it was cloned.
+    """
+
+    number: int
+    box: tuple[float, float, float, float]
+    region: tuple[int, int, int, int]
+    result: CloneResult | None
+    problem: str = ""
 
 
 class Cloner:
@@ -378,6 +410,17 @@ class Prepared:
     photo: ExpressionPhoto | None
     landmarker: str | None = None
     warnings: tuple[str, ...] = ()
+
+    @property
+    def target_size(self) -> tuple[int, int]:
+        """The target photo's ``(height, width)``."""
+        height, width = self.cloner.faces.target_image.shape[:2]
+        return height, width
+
+    @property
+    def lambda_k(self) -> float | None:
+        """The elasticity ratio of its first method's shape (None for a method without the elastic model)."""
+        return self.shapes[self.methods[0].shape].lambda_k
 
     def render(self, **changes: Any) -> dict[str, CloneResult]:
         """Each method's image, with the cloner's options or others of their cheap part (:data:`RENDER`: the strengths,

@@ -52,7 +52,7 @@ GlobalLandmarks = Annotated[MaybeFile, File(description=spec(Options, "global_la
 #: the clone's options of each route, as form fields (:func:`exprclone.server.forms.options_form`).
 CloneOptions = Annotated[Asked, Depends(options_form(Options))]
 CompareOptions = Annotated[Asked, Depends(options_form(Options, tuple(n for n in names(Options) if n != "method")))]
-VideoOptions = Annotated[Asked, Depends(options_form(Options, tuple(n for n in names(Options) if n != "global_landmarks")))]
+VideoOptions = Annotated[Asked, Depends(options_form(Options, tuple(n for n in names(Options) if n not in ("global_landmarks", "faces"))))]
 DrivingForm = Annotated[Asked, Depends(options_form(Driving))]
 FramingForm = Annotated[Asked, Depends(options_form(Framing))]
 LandmarkerForm = Annotated[Asked, Depends(options_form(Options, ("landmarker",)))]
@@ -166,6 +166,32 @@ async def landmarks(server: Server, photo: Photo, asked: LandmarkerForm) -> dict
     return found
 
 
+class FaceFound(BaseModel):
+    """A face of a photo: its number in reading order (the ``faces`` field's), its box, and why it cannot be cloned."""
+
+    number: int
+    box: list[float]
+    problem: str
+
+
+class FacesFound(BaseModel):
+    """The photo's size and every face of it, in reading order."""
+
+    width: int
+    height: int
+    faces: list[FaceFound]
+
+
+@router.post("/api/faces", responses=errors(400, 413, 422, 503))
+async def faces(server: Server, photo: Photo, asked: LandmarkerForm) -> FacesFound:
+    """Every face of a photo, numbered in reading order as the ``faces`` field of ``/api/clone`` chooses them: ``box``
+    ``[left, top, right, bottom]`` in its pixels, ``problem`` why it would be left as it is (empty when it can be
+    cloned)."""
+    upload = await read_upload(photo, "photo")
+    found: dict[str, Any] = await server.run(work.faces, upload, server.settings.max_pixels, asked.options.landmarker)
+    return FacesFound(**found)
+
+
 async def clone_uploads(
     target_neutral: Photo,
     source_neutral: SourcePhoto = None,
@@ -255,8 +281,7 @@ async def make_edit(server: Server, uploads: Uploads, asked: CloneOptions) -> Ed
     request = await clone_request(server, uploads, asked)
     full, preview, inputs, placed = await server.run(work.prepare_edit, request, PREVIEW)
     edit_id = server.edits.add(Edit(full, preview, inputs, placed))
-    (height, width), (preview_height, preview_width) = full.cloner.faces.target_image.shape[:2], preview.cloner.faces.target_image.shape[:2]
-    shape = full.shapes[full.methods[0].shape]
+    (height, width), (preview_height, preview_width) = full.target_size, preview.target_size
     return EditMade(
         id=edit_id,
         render=f"/api/edits/{edit_id}/render",
@@ -264,7 +289,7 @@ async def make_edit(server: Server, uploads: Uploads, asked: CloneOptions) -> Ed
         height=height,
         preview_width=preview_width,
         preview_height=preview_height,
-        lambda_k=json_number(shape.lambda_k),
+        lambda_k=json_number(full.lambda_k),
         expires_after=server.settings.edit_ttl,
         warnings=list(full.warnings),
     )

@@ -28,6 +28,7 @@ from .limits import Busy
 
 if TYPE_CHECKING:
     from ..pipeline.cloner import CloneResult, Prepared
+    from ..pipeline.group import Group
 
 #: the preview's longest side, pixels.
 PREVIEW = 512
@@ -43,8 +44,9 @@ class Edit:
 
     Attributes
     ----------
-    full, preview : Prepared
-        The clone prepared at the target photo's size, and at the preview's (the same object when the photo is no larger).
+    full, preview : Prepared or Group
+        The clone prepared at the target photo's size, and at the preview's (the same object when the photo is no larger,
+        or shows several faces).
     inputs : dict of str to str
         What each photo was, for the record (:func:`exprclone.server.work.inputs_of`).
     landmarker : str or None
@@ -53,8 +55,8 @@ class Edit:
         When it was made or last rendered (``time.time()``).
     """
 
-    full: Prepared
-    preview: Prepared
+    full: Prepared | Group
+    preview: Prepared | Group
     inputs: dict[str, str]
     landmarker: str | None
     used: float = field(default_factory=time.time)

@@ -23,7 +23,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from fractions import Fraction
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
@@ -36,13 +36,17 @@ from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 if TYPE_CHECKING:
     from ..drive import Recording
     from ..pipeline.cloner import Prepared
+    from ..pipeline.group import Found, Group
 
 #: photos whose landmarks a worker remembers.
 LANDMARK_CACHE = 256
 #: frames between two updates of a video job's progress file.
 PROGRESS_EVERY = 5
 
-_seen: OrderedDict[tuple[str, str], np.ndarray] = OrderedDict()
+T = TypeVar("T")
+
+#: what a worker remembers of the photos it has seen, by their bytes' SHA-256, the landmarker and what was found.
+_seen: OrderedDict[tuple[str, str, str], Any] = OrderedDict()
 
 
 @dataclass(frozen=True)
@@ -135,18 +139,43 @@ def _image(upload: Upload, max_pixels: int | None) -> np.ndarray:
     return load_image(upload.content, name=upload.field, max_pixels=max_pixels)
 
 
-def _detected(upload: Upload, image: np.ndarray, landmarker: str) -> np.ndarray:
-    """The landmarks of an uploaded photo placed by ``landmarker``: remembered, or detected (and remembered)."""
-    from ..landmarks.backends import shared
-
-    key = (hashlib.sha256(upload.content).hexdigest(), landmarker)
+def _remembered(upload: Upload, landmarker: str, kind: str, find: Callable[[], T]) -> T:
+    """What ``find`` finds of an uploaded photo by ``landmarker`` (its ``kind``: one face's landmarks, or every face):
+    remembered by the photo's bytes, or found (and remembered)."""
+    key = (hashlib.sha256(upload.content).hexdigest(), landmarker, kind)
     if key in _seen:
         _seen.move_to_end(key)
     else:
-        _seen[key] = shared(landmarker).detect(image, upload.field)
+        _seen[key] = find()
         if len(_seen) > LANDMARK_CACHE:
             _seen.popitem(last=False)
-    return _seen[key]
+    found: T = _seen[key]
+    return found
+
+
+def _detected(upload: Upload, image: np.ndarray, landmarker: str) -> np.ndarray:
+    """The landmarks of the face of an uploaded photo placed by ``landmarker`` (its largest: :meth:`detect`)."""
+    from ..landmarks.backends import shared
+
+    return _remembered(upload, landmarker, "face", lambda: shared(landmarker).detect(image, upload.field))
+
+
+def _found(upload: Upload, image: np.ndarray, landmarker: str) -> tuple[Found, ...]:
+    """Every face of an uploaded photo, its landmarks placed by ``landmarker`` (:func:`exprclone.pipeline.group.find`)."""
+    from ..landmarks.backends import shared
+    from ..landmarks.layout import DLIB68
+    from ..pipeline import group
+
+    return _remembered(upload, landmarker, "faces", lambda: group.find(image, shared(landmarker), upload.field, DLIB68))
+
+
+def faces(upload: Upload, max_pixels: int | None, landmarker: str) -> dict[str, Any]:
+    """``POST /api/faces``: every face of a photo in reading order, ``{"width", "height", "faces": [{"number", "box",
+    "problem"}, ...]}`` (``box`` as ``[left, top, right, bottom]``; ``problem`` empty for a face that can be cloned)."""
+    image = _image(upload, max_pixels)
+    found = _found(upload, image, landmarker)
+    listed = [{"number": f.number, "box": [round(v, 1) for v in f.box], "problem": f.problem} for f in found]
+    return {"width": image.shape[1], "height": image.shape[0], "faces": listed}
 
 
 def landmarks(upload: Upload, max_pixels: int | None, landmarker: str) -> dict[str, Any]:
@@ -163,23 +192,38 @@ def _landmark_file(upload: Upload, shape: tuple[int, ...]) -> np.ndarray:
     return parse_landmarks(upload.content.decode("utf-8-sig", errors="replace"), upload.extension, shape, name=upload.field)
 
 
-def _inputs(request: CloneRequest) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray], Options]:
+@dataclass(frozen=True)
+class Inputs:
+    """A request's photos decoded, their landmarks (the target's None when its faces are found instead), the clone's
+    options (the given GI read from its file) and the target photo's faces (None with its landmark file)."""
+
+    images: tuple[np.ndarray, np.ndarray, np.ndarray]
+    points: tuple[np.ndarray, np.ndarray, np.ndarray | None]
+    options: Options
+    faces: tuple[Found, ...] | None
+
+
+def _inputs(request: CloneRequest) -> Inputs:
     """The three photos decoded (a built-in expression's loaded, :func:`exprclone.expressions.load`), their landmarks
-    (the expression's, from the landmark file given, else placed by the request's landmarker), and the clone's options
-    (with the given GI read from its file)."""
+    (the expression's, from the landmark file given, else placed by the request's landmarker: every face of the
+    target's), and the clone's options."""
+    landmarker = str(request.options.landmarker)
     sent = [(photo, given) for photo, given in zip(request.photos, request.landmarks) if photo is not None]
-    faces = [_face(photo, given, request.max_pixels, str(request.options.landmarker)) for photo, given in sent]
+    sources = [_face(photo, given, request.max_pixels, landmarker) for photo, given in sent[:-1]]
     if request.expression is not None:
         from ..expressions import load
 
         chosen = load(request.expression)
-        faces = [(chosen.neutral.image, chosen.neutral.points), (chosen.expression.image, chosen.expression.points), *faces]
-    (sn, sn_points), (se, se_points), (tn, tn_points) = faces
-    images, points = (sn, se, tn), (sn_points, se_points, tn_points)
+        sources = [(chosen.neutral.image, chosen.neutral.points), (chosen.expression.image, chosen.expression.points)]
+    (sn, sn_points), (se, se_points) = sources
+    photo, given = sent[-1]
+    tn = _image(photo, request.max_pixels)
+    found = _found(photo, tn, landmarker) if given is None else None
+    tn_points = None if given is None else _landmark_file(given, tn.shape)
     options = request.options
     if request.global_landmarks is not None:
-        options = replace(options, global_landmarks=_landmark_file(request.global_landmarks, images[2].shape))
-    return images, (points[0], points[1], points[2]), options
+        options = replace(options, global_landmarks=_landmark_file(request.global_landmarks, tn.shape))
+    return Inputs((sn, se, tn), (sn_points, se_points, tn_points), options, found)
 
 
 def _face(photo: Upload, given: Upload | None, max_pixels: int | None, landmarker: str) -> tuple[np.ndarray, np.ndarray]:
@@ -203,29 +247,36 @@ def clone(request: CloneRequest, extension: str = ".png") -> tuple[bytes, dict[s
     from ..io.record import result_record
     from ..pipeline.clone import clone as clone_photos
 
-    images, points, options = _inputs(request)
-    result = clone_photos(*images, landmarks=points, options=options)
-    sent = [given for photo, given in zip(request.photos, request.landmarks) if photo is not None]
-    placed = str(options.landmarker) if any(given is None for given in sent) else None
-    record = result_record(replace(result, landmarker=placed), inputs_of(request))
+    asked = _inputs(request)
+    result = clone_photos(*asked.images, landmarks=asked.points, options=asked.options, target_faces=asked.faces)
+    record = result_record(replace(result, landmarker=_placed(request, asked.options)), inputs_of(request))
     return encode_image(result.image, extension), record
 
 
-def prepare_edit(request: CloneRequest, preview: int) -> tuple[Prepared, Prepared, dict[str, str], str | None]:
+def _placed(request: CloneRequest, options: Options) -> str | None:
+    """Which landmarker placed landmarks of the request's photos: its options', unless every photo sent came with its own."""
+    sent = [given for photo, given in zip(request.photos, request.landmarks) if photo is not None]
+    return str(options.landmarker) if any(given is None for given in sent) else None
+
+
+def prepare_edit(request: CloneRequest, preview: int) -> tuple[Prepared | Group, Prepared | Group, dict[str, str], str | None]:
     """``POST /api/edits``: the clone prepared at the target photo's size and at ``preview`` pixels (its longest side),
     the second with the first's landmarks (scaled) and lambda_k, so that both show the same clone; what the photos were
-    and which landmarker placed landmarks, for the records (:mod:`exprclone.server.edits`)."""
+    and which landmarker placed landmarks, for the records (:mod:`exprclone.server.edits`). A photo of several faces
+    has no smaller preview (its small faces would be too small in it): both are the one at its size."""
     from ..drive.framing import resize_portrait
     from ..pipeline.clone import prepare
+    from ..pipeline.group import Group
 
-    images, points, options = _inputs(request)
-    full = prepare(*images, landmarks=points, options=options)
-    sent = [given for photo, given in zip(request.photos, request.landmarks) if photo is not None]
-    placed = str(options.landmarker) if any(given is None for given in sent) else None
-    if preview >= max(images[2].shape[:2]):
+    asked = _inputs(request)
+    images, points, options = asked.images, asked.points, asked.options
+    full = prepare(*images, landmarks=points, options=options, target_faces=asked.faces)
+    placed = _placed(request, options)
+    if isinstance(full, Group) or preview >= max(images[2].shape[:2]):
         return full, full, inputs_of(request), placed
-    lambda_k = full.shapes[full.methods[0].shape].lambda_k
-    target, target_points = resize_portrait(images[2], points[2], preview)
+    lambda_k = full.lambda_k
+    own = points[2] if points[2] is not None else asked.faces[0].points if asked.faces else None
+    target, target_points = resize_portrait(images[2], own, preview)
     ratio = np.array(target.shape[1::-1]) / images[2].shape[1::-1]
     given = None if options.global_landmarks is None else options.global_landmarks * ratio
     small = replace(options, lambda_k=options.lambda_k if lambda_k is None else lambda_k, global_landmarks=given)
@@ -240,10 +291,10 @@ def compare(request: CloneRequest, extension: str = ".png") -> bytes:
     from ..io.images import encode_image
     from ..pipeline.clone import clone_methods
 
-    images, points, options = _inputs(request)
-    methods, options = figure_request(request.figure, options, "global_warp" in request.given)
-    results = clone_methods(*images, methods, landmarks=points, options=options)
-    return encode_image(draw(request.figure, results, images), extension)
+    asked = _inputs(request)
+    methods, options = figure_request(request.figure, asked.options, "global_warp" in request.given)
+    results = clone_methods(*asked.images, methods, landmarks=asked.points, options=options, target_faces=asked.faces)
+    return encode_image(draw(request.figure, results, asked.images), extension)
 
 
 def probe_video(path: str, limits: Limits) -> Fraction:

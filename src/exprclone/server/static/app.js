@@ -40,7 +40,8 @@ function drawLandmarks(zone, found) {
   canvas.height = img.clientHeight;
   const context = canvas.getContext("2d");
   context.clearRect(0, 0, canvas.width, canvas.height);
-  if (!found || !$("#show-landmarks").checked) return;
+  if (zone.faces) drawFaces(context, canvas.width / zone.faces.width);
+  if (!found || !$("#show-landmarks").checked || zone.faces) return;
   const scale = canvas.width / found.width;
   context.fillStyle = "#00e676";
   for (const [x, y] of found.landmarks) {
@@ -50,11 +51,85 @@ function drawLandmarks(zone, found) {
   }
 }
 
+// --- the faces of a group photo (POST /api/faces): outlined and numbered on the target's preview; a click on one,
+// or its checkbox, leaves it out or takes it back (the clone's "faces" field) --------------------------------------
+function faceBox(number) {
+  return document.getElementById(`face-${number}`);
+}
+
+function drawFaces(context, scale) {
+  context.lineWidth = 2;
+  context.font = "bold 13px sans-serif";
+  for (const face of $(".zone[data-field=target_neutral]").faces.faces) {
+    const [left, top, right, bottom] = face.box.map((v) => v * scale);
+    const taken = faceBox(face.number).checked;
+    context.strokeStyle = context.fillStyle = face.problem ? "#e53935" : taken ? "#00e676" : "#9e9e9e";
+    context.setLineDash(taken ? [] : [4, 3]);
+    context.strokeRect(left, top, right - left, bottom - top);
+    context.fillText(String(face.number), left + 2, Math.max(12, top - 3));
+  }
+  context.setLineDash([]);
+}
+
+function clearFaces(zone) {
+  zone.faces = null;
+  $("#faces").hidden = true;
+  zone.querySelector("canvas").classList.remove("faces-shown");
+  for (const label of $("#faces").querySelectorAll("label")) label.remove();
+}
+
+async function findFaces(zone, file) {
+  const list = $("#faces");
+  const canvas = zone.querySelector("canvas");
+  const form = new FormData();
+  form.append("photo", file);
+  form.append("landmarker", $("#landmarker").value);
+  const found = await (await call("/api/faces", { method: "POST", body: form })).json();
+  if (found.faces.length < 2) return;
+  for (const face of found.faces) {
+    const label = document.createElement("label");
+    const box = Object.assign(document.createElement("input"), { type: "checkbox", id: `face-${face.number}`, value: face.number });
+    box.checked = !face.problem;
+    box.disabled = Boolean(face.problem);
+    box.addEventListener("change", () => drawLandmarks(zone, zone.found));
+    label.append(box, ` ${face.number}${face.problem ? ` (left as it is: ${face.problem})` : ""}`);
+    list.append(label);
+  }
+  zone.faces = found;
+  list.hidden = false;
+  canvas.classList.add("faces-shown");
+}
+
+// a click on the target's preview toggles the face under it
+$(".zone[data-field=target_neutral] canvas").addEventListener("click", (event) => {
+  const zone = $(".zone[data-field=target_neutral]");
+  if (!zone.faces) return;
+  const canvas = event.currentTarget;
+  const scale = zone.faces.width / canvas.clientWidth;
+  const [x, y] = [event.offsetX * scale, event.offsetY * scale];
+  const face = zone.faces.faces.find(({ box }) => box[0] <= x && x <= box[2] && box[1] <= y && y <= box[3]);
+  const box = face && faceBox(face.number);
+  if (!box || box.disabled) return;
+  box.checked = !box.checked;
+  box.dispatchEvent(new Event("change"));
+});
+
+// the faces field: the numbers of the faces taken, "all" when no face is left out, nothing for a photo of one face
+function facesAsked() {
+  const zone = $(".zone[data-field=target_neutral]");
+  if (!zone.faces) return null;
+  const boxes = [...$("#faces").querySelectorAll("input")];
+  const taken = boxes.filter((b) => b.checked).map((b) => b.value);
+  if (!taken.length) throw new Error("target_neutral: choose at least one face");
+  return boxes.every((b) => b.checked || b.disabled) ? "all" : taken.join(",");
+}
+
 async function preview(zone) {
   const input = zone.querySelector("input");
   const file = input.files[0];
   const media = zone.querySelector("img, video");
   zone.found = null;
+  if (zone.dataset.field === "target_neutral") clearFaces(zone);
   if (!file) return;
   media.src = URL.createObjectURL(file);
   if (media.tagName !== "IMG") return;
@@ -64,6 +139,7 @@ async function preview(zone) {
     form.append("photo", file);
     form.append("landmarker", $("#landmarker").value);
     zone.found = await (await call("/api/landmarks", { method: "POST", body: form })).json();
+    if (zone.dataset.field === "target_neutral") await findFaces(zone, file);
     say("");
   } catch (e) {
     say(e.message.replace(/^photo:/, zone.dataset.field + ":"));
@@ -174,6 +250,8 @@ function cloneForm(withMethod) {
     form.append(field, file);
   }
   if (withMethod) form.append("method", $("#method").value);
+  const faces = facesAsked();
+  if (faces) form.append("faces", faces);
   form.append("lambda", lambdaValue());
   form.append("mouth", $("#mouth").checked ? "true" : "false");
   addTransfer(form, true);
@@ -202,7 +280,9 @@ function caption(record) {
     o.strength !== 1 ? `strength ${o.strength}` : "", ...regions, o.strength_shading !== 1 ? `shading ${o.strength_shading}` : "",
     o.retarget ? "" : "no retarget", record.landmarker && record.landmarker !== "dlib" ? `${record.landmarker} landmarks` : ""];
   const source = builtIn() ? `, expression ${$("#expression").value}` : "";
-  return `${record.method}${source}${lambda}${how.filter(Boolean).map((h) => `, ${h}`).join("")}. `;
+  const cloned = record.faces.filter((face) => !face.problem).map((face) => face.number);
+  const faces = record.faces.length ? `, faces ${cloned.join(",") || "none"} of ${record.faces.length}` : "";
+  return `${record.method}${source}${lambda}${faces}${how.filter(Boolean).map((h) => `, ${h}`).join("")}. `;
 }
 
 // the result on screen (unless "before" is shown: then the toggle shows it), once the browser has decoded it
