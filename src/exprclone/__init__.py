@@ -18,7 +18,7 @@ from .options import Options
 
 if TYPE_CHECKING:  # what type checkers see; at run time the pipeline is imported on first use (__getattr__)
     from .pipeline.clone import clone, clone_methods, prepare
-    from .pipeline.cloner import Cloner, CloneResult, Prepared
+    from .pipeline.cloner import Cloner, CloneResult, FaceResult, Prepared
 
 __all__ = [
     "METHODS",
@@ -26,6 +26,7 @@ __all__ = [
     "Cloner",
     "ExprCloneError",
     "ExprCloneWarning",
+    "FaceResult",
     "Options",
     "Prepared",
     "clone",
@@ -35,7 +36,7 @@ __all__ = [
 __version__ = "0.1.0"
 
 #: the names of the pipeline's face, imported on first use (numpy, OpenCV and SciPy with them).
-LAZY = ("clone", "clone_methods", "prepare", "CloneResult", "Cloner", "Prepared")
+LAZY = ("clone", "clone_methods", "prepare", "CloneResult", "Cloner", "FaceResult", "Prepared")
 
 
 def __getattr__(name: str) -> object:

@@ -32,9 +32,9 @@ from ..options import Options
 from ..roles import ROLES, TARGET_NEUTRAL
 from . import group, role_check
 from .checks import check_face, check_image, check_points
-from .cloner import Cloner, CloneResult, Prepared
+from .cloner import Cloner, CloneResult, FaceResult, Prepared
 
-__all__ = ["CloneResult", "Cloner", "Prepared", "clone", "clone_methods", "prepare"]
+__all__ = ["CloneResult", "Cloner", "FaceResult", "Prepared", "clone", "clone_methods", "prepare"]
 
 #: given landmarks for the three photos (None entries are detected).
 Landmarks = tuple[np.ndarray | None, np.ndarray | None, np.ndarray | None]
