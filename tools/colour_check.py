@@ -109,10 +109,14 @@ PORTRAITS = ("083", "112", "124", "137", "096", "062", "141", "097", "009", "099
 TEETH_SHARE = BRIGHTEST / 2
 
 
+def lab(pixels: np.ndarray) -> np.ndarray:
+    """CIELAB of uint8 sRGB pixels ``(K, 3)`` (D65), ``(K, 3)``."""
+    return cv2.cvtColor(pixels.reshape(-1, 1, 3).astype(np.float32) / 255.0, cv2.COLOR_RGB2LAB).reshape(-1, 3)
+
+
 def lab_ab(pixels: np.ndarray) -> np.ndarray:
     """CIELAB (a*, b*) of uint8 sRGB pixels ``(K, 3)`` (D65), ``(K, 2)``."""
-    lab = cv2.cvtColor(pixels.reshape(-1, 1, 3).astype(np.float32) / 255.0, cv2.COLOR_RGB2LAB)
-    return lab.reshape(-1, 3)[:, 1:]
+    return lab(pixels)[:, 1:]
 
 
 def discs(shape: tuple[int, ...], centres: np.ndarray, radius: float) -> np.ndarray:
@@ -467,8 +471,7 @@ def skin_lightness(data: Path) -> list[tuple[str, float]]:
     for path in sorted((data / "london" / "neutral_front").glob("*_03.jpg")):
         image = load_image(path)
         pixels = illuminant.skin_pixels(image, detector.detect(image), DLIB68)
-        lab = cv2.cvtColor(pixels.reshape(-1, 1, 3).astype(np.float32) / 255.0, cv2.COLOR_RGB2LAB)
-        rows.append((path.name[:3], float(np.median(lab[..., 0]))))
+        rows.append((path.name[:3], float(np.median(lab(pixels)[:, 0]))))
     return sorted(rows, key=lambda row: -row[1])
 
 

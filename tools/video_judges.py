@@ -41,7 +41,7 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-from colour_check import inner_mask, regions, skin_lightness, steps
+from colour_check import inner_mask, lab, regions, skin_lightness, steps
 
 #: the teeth's yellowness (b* over the cheeks') may differ from the portrait's own real teeth by this much.
 TEETH_YELLOW = 4.0
@@ -53,23 +53,6 @@ TEETH_TOP = 0.10
 TEETH_FRAMES = 3
 #: the driver's head is still when its rigid landmarks move less than this (eye distances) from a frame to the next.
 STILL = 0.01
-
-
-def still_jitter(points: np.ndarray, indices: tuple[int, ...], still: np.ndarray) -> float:
-    """:func:`exprclone.drive.tracking.jitter` of ``points`` (T, N, 2) over the frames whose neighbours are all ``still``."""
-    from exprclone.landmarks.layout import DLIB68
-
-    chosen = points[:, list(indices)]
-    i, j = DLIB68.eye_corners
-    iod = np.linalg.norm(points[:, j] - points[:, i], axis=1).mean()
-    second = np.linalg.norm(chosen[2:] - 2 * chosen[1:-1] + chosen[:-2], axis=2).mean(1)
-    kept = still[2:] & still[1:-1] & still[:-2]
-    return float(second[kept].mean() / iod) if kept.any() else np.nan
-
-
-def lab(pixels: np.ndarray) -> np.ndarray:
-    """CIELAB of uint8 sRGB pixels ``(K, 3)`` (D65), ``(K, 3)``."""
-    return cv2.cvtColor(pixels.reshape(-1, 1, 3).astype(np.float32) / 255.0, cv2.COLOR_RGB2LAB).reshape(-1, 3)
 
 
 def teeth(image: np.ndarray, landmarks: np.ndarray) -> tuple[float, float] | None:
@@ -108,6 +91,7 @@ def afresh(images: list[np.ndarray], known: list[np.ndarray] | np.ndarray) -> np
 def judge(case: tuple[Path, str, Path, int, str]) -> dict:
     """One clip driving one portrait: every measure of the module's notes."""
     from exprclone import drive
+    from exprclone.drive import tracking
     from exprclone.drive.framing import resize_portrait
     from exprclone.io.images import load_image
     from exprclone.io.video import probe, read_frames
@@ -163,8 +147,8 @@ def judge(case: tuple[Path, str, Path, int, str]) -> dict:
         "lip_fall": float(np.mean(falls)) if falls else np.nan,
         "driver_lip_fall": float(np.mean(driver_falls)) if driver_falls else np.nan,
         "still": int(still.sum()),
-        "jitter": still_jitter(found, mouth, still),
-        "driver_jitter": still_jitter(driver_found, mouth, still),
+        "jitter": tracking.jitter(found, mouth, frames=still),
+        "driver_jitter": tracking.jitter(driver_found, mouth, frames=still),
         "flicker": steps(inner),
         "driver_flicker": steps(driver_inner),
         "correlation": float(np.corrcoef(opening, driver_opening)[0, 1]),

@@ -1,7 +1,6 @@
 """Edits: a clone prepared once on a real server and rendered again with other strengths (the sliders' API)."""
 
 import io
-import time
 
 import cv2
 import httpx
@@ -17,7 +16,9 @@ from exprclone.io.images import load_image
 from exprclone.landmarks.backends import default_detector
 from exprclone.landmarks.layout import DLIB68
 from exprclone.mouth import measure
+from exprclone.server import edits as edits_module
 from exprclone.server.edits import Edit, Edits, NoSuchEdit
+from exprclone.server.limits import Busy
 
 pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -m 'not slow' leaves these out
 
@@ -108,14 +109,19 @@ def test_edits_are_bounded_and_a_deleted_one_frees_its_place(client, edit):
     assert third.status_code == 201 and client.delete(f"/api/edits/{third.json()['id']}").status_code == 204
 
 
-def test_an_edit_unused_for_its_time_to_live_expires():
-    edits = Edits(limit=1, ttl=0.2)
+def test_an_edit_unused_for_its_time_to_live_expires(monkeypatch):
+    """On a clock of the test's (no sleeping: a loaded machine cannot make it flaky)."""
+    now = [1000.0]
+    monkeypatch.setattr(edits_module.time, "time", lambda: now[0])
+    edits = Edits(limit=1, ttl=10)
     kept = edits.add(Edit(None, None, {}, None))
-    time.sleep(0.1)
+    now[0] += 8
     edits.get(kept)  # a render starts its time again
-    time.sleep(0.15)
-    assert edits.get(kept)
-    time.sleep(0.25)
+    now[0] += 8
+    assert edits.get(kept)  # 16 s after it was made, 8 after its last render
+    with pytest.raises(Busy):
+        edits.add(Edit(None, None, {}, None))  # the one place is taken
+    now[0] += 10.5
     with pytest.raises(NoSuchEdit):
         edits.get(kept)
     assert edits.add(Edit(None, None, {}, None))  # its place is free

@@ -218,7 +218,7 @@ def track(frames: Iterable[np.ndarray], detector: Landmarker, name: str = "video
     return Track(np.array(held), found, tracker.detections, tracker.checks)
 
 
-def jitter(points: np.ndarray, indices: Iterable[int], layout: Layout = DLIB68) -> float:
+def jitter(points: np.ndarray, indices: Iterable[int], layout: Layout = DLIB68, frames: np.ndarray | None = None) -> float:
     """Frame-to-frame jitter of some landmarks: the mean length of their second difference over time.
 
     A steady motion has none; noise of standard deviation ``s`` per coordinate gives about
@@ -229,6 +229,8 @@ def jitter(points: np.ndarray, indices: Iterable[int], layout: Layout = DLIB68) 
     points : ndarray of shape (T, N, 2)
     indices : iterable of int
         The landmarks to measure (e.g. ``layout.mouth_outer + layout.mouth_inner``).
+    frames : ndarray of shape (T,), bool, optional
+        The frames to measure over: a second difference counts where its three frames all are (NaN if none does).
 
     Returns
     -------
@@ -237,7 +239,10 @@ def jitter(points: np.ndarray, indices: Iterable[int], layout: Layout = DLIB68) 
     chosen = points[:, list(indices)]
     i, j = layout.eye_corners
     iod = np.linalg.norm(points[:, j] - points[:, i], axis=1).mean()
-    return float(np.linalg.norm(chosen[2:] - 2 * chosen[1:-1] + chosen[:-2], axis=2).mean() / iod)
+    second = np.linalg.norm(chosen[2:] - 2 * chosen[1:-1] + chosen[:-2], axis=2)
+    if frames is not None:
+        second = second[frames[2:] & frames[1:-1] & frames[:-2]]
+    return float(second.mean() / iod) if second.size else float("nan")
 
 
 def smooth(points: np.ndarray, fps: float) -> np.ndarray:
