@@ -33,7 +33,11 @@ the plain servers' after passes over the pairs), it prints:
   of their p50s;
 - the throughput of 4 concurrent clients on each server, in turns of ``--requests``
   requests (3 turns each), and for each kind the ratio of 2 workers' to 1's: the plain
-  server's says what this machine allows.
+  server's says what this machine allows;
+- beside each throughput, the CPU time a request took in each part: the server (its web
+  process, and the plain server's workers), and the cluster's scheduler and workers (the
+  ``dask worker`` command's processes): on 2 cores, what the parts other than the workers
+  take is what 2 workers cannot have.
 """
 
 from __future__ import annotations
@@ -70,11 +74,22 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
+def children(pid: int) -> list[int]:
+    """The child processes of a process, whichever of its threads started them (from /proc)."""
+    return [int(c) for task in Path(f"/proc/{pid}/task").iterdir() for c in (task / "children").read_text().split()]
+
+
 def resident_mb(pid: int) -> float:
     """Resident memory of a process and all its descendants, in MB (from /proc)."""
-    children = Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
     rss = next(int(line.split()[1]) for line in Path(f"/proc/{pid}/status").read_text().splitlines() if line.startswith("VmRSS"))
-    return rss / 1024 + sum(resident_mb(int(c)) for c in children)
+    return rss / 1024 + sum(resident_mb(c) for c in children(pid))
+
+
+def cpu_seconds(pid: int) -> float:
+    """CPU time (user and system) of a process and all its live descendants, in seconds (from /proc)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    own = (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    return own + sum(cpu_seconds(c) for c in children(pid))
 
 
 def payloads(data: Path, size: int) -> list[dict]:
@@ -163,9 +178,9 @@ def serving(*flags: str) -> Iterator[tuple[int, str]]:
 
 
 @contextlib.contextmanager
-def dask_cluster(workers: int) -> Iterator[str]:
+def dask_cluster(workers: int) -> Iterator[tuple[str, dict[str, int]]]:
     """``dask scheduler`` and ``dask worker --nworkers WORKERS --nthreads 1`` on this machine, until the block ends: the
-    scheduler's address once its workers have joined."""
+    scheduler's address once its workers have joined, and the PIDs of the two commands by name."""
     from distributed import Client
 
     address = f"tcp://127.0.0.1:{free_port()}"
@@ -175,7 +190,7 @@ def dask_cluster(workers: int) -> Iterator[str]:
         started.append(subprocess.Popen([*dask, "worker", address, "--nworkers", str(workers), "--nthreads", "1", "--no-dashboard"]))
         with Client(address, timeout=60) as client:
             client.wait_for_workers(workers, timeout=120)
-        yield address
+        yield address, {"scheduler": started[0].pid, "workers": started[1].pid}
     finally:
         for process in reversed(started):
             process.send_signal(signal.SIGINT)
@@ -197,14 +212,20 @@ def seen(address: str, files: list[dict]) -> None:
 def on_clusters(args: argparse.Namespace) -> None:
     """The ``--scheduler`` benchmark (see the module's notes)."""
     with contextlib.ExitStack() as stack:
-        one, two = [stack.enter_context(dask_cluster(n)) for n in (1, 2)]
+        (one, one_pids), (two, two_pids) = [stack.enter_context(dask_cluster(n)) for n in (1, 2)]
         flags = ("--max-live", "0", "--queue", "8")
-        servers = {
-            ("plain server", 1): stack.enter_context(serving("--workers", "1", *flags))[1],
-            ("plain server", 2): stack.enter_context(serving("--workers", "2", *flags))[1],
-            ("cluster", 1): stack.enter_context(serving("--scheduler", one, "--workers", "1", *flags))[1],
-            ("cluster", 2): stack.enter_context(serving("--scheduler", two, "--workers", "2", *flags))[1],
+        started = {
+            ("plain server", 1): stack.enter_context(serving("--workers", "1", *flags)),
+            ("plain server", 2): stack.enter_context(serving("--workers", "2", *flags)),
+            ("cluster", 1): stack.enter_context(serving("--scheduler", one, "--workers", "1", *flags)),
+            ("cluster", 2): stack.enter_context(serving("--scheduler", two, "--workers", "2", *flags)),
         }
+        servers = {key: url for key, (_, url) in started.items()}
+        # whose CPU time each server's requests take: the server's process tree (with the plain server's workers), and
+        # the cluster's scheduler and workers
+        tasks = {key: {"server": pid} for key, (pid, _) in started.items()}
+        tasks["cluster", 1].update(one_pids)
+        tasks["cluster", 2].update(two_pids)
         print(f"exprclone serve --scheduler benchmark: {os.cpu_count()} cores, POST /api/clone (e+md, PNG answer)")
         for size in SIZES:
             files = payloads(args.data, size)
@@ -222,15 +243,20 @@ def on_clusters(args: argparse.Namespace) -> None:
             print(f"  1 client, in turn, 1 worker each: plain server p50 {p50['plain server']:.0f} ms, cluster {p50['cluster']:.0f} ms")
             print(f"  p50 on the cluster / on the plain server: {p50['cluster'] / p50['plain server']:.2f}x")
             done: dict[tuple[str, int], list[tuple[list[float], int, float]]] = {key: [] for key in servers}
+            cpu: dict[tuple[str, int], dict[str, float]] = {key: dict.fromkeys(tasks[key], 0.0) for key in servers}
             for _ in range(CLUSTER_TURNS):
                 for key, url in servers.items():
+                    before = {role: cpu_seconds(pid) for role, pid in tasks[key].items()}
                     done[key].append(run(url, files, args.requests, CLUSTER_CLIENTS))
+                    for role, pid in tasks[key].items():
+                        cpu[key][role] += cpu_seconds(pid) - before[role]
             throughput = {}
             for (name, workers), turns in done.items():
                 every = [ms for times, _, _ in turns for ms in times]
                 errors, wall = sum(e for _, e, _ in turns), sum(w for _, _, w in turns)
                 throughput[name, workers] = len(every) / wall
                 print(line(f"{name}, {workers} worker{'s' * (workers > 1)}, {CLUSTER_CLIENTS} clients", every, errors, wall))
+                print(f"    CPU a request: {', '.join(f'{role} {1000 * t / len(every):.0f} ms' for role, t in cpu[name, workers].items())}")
             ratios = [f"{name} {throughput[name, 2] / throughput[name, 1]:.2f}x" for name in alone]
             print(f"  throughput on 2 workers / on 1: {', '.join(ratios)}")
 
