@@ -198,7 +198,8 @@ def dask_cluster(workers: int) -> Iterator[tuple[str, dict[str, int]]]:
 
 
 def seen(address: str, files: list[dict]) -> None:
-    """Every worker of the cluster at ``address`` places the landmarks of the photos of ``files`` (and remembers them)."""
+    """Every worker of the cluster at ``address`` places the landmarks of the photos of ``files`` as a clone does (and
+    remembers them): a source photo's face, every face of a target photo."""
     from distributed import Client
 
     from exprclone.landmarks.backends import DEFAULT
@@ -206,7 +207,7 @@ def seen(address: str, files: list[dict]) -> None:
 
     uploads = [work.Upload(field, content) for photos in files for field, (_, content) in photos.items()]
     with Client(address, timeout=60) as client:
-        client.run(lambda: [work.landmarks(upload, None, DEFAULT) for upload in uploads])
+        client.run(lambda: [(work.faces if u.field == "target_neutral" else work.landmarks)(u, None, DEFAULT) for u in uploads])
 
 
 def on_clusters(args: argparse.Namespace) -> None:
