@@ -162,7 +162,8 @@ def line(name: str, latencies: list[float], errors: int, wall: float) -> str:
 def serving(*flags: str) -> Iterator[tuple[int, str]]:
     """``exprclone serve FLAGS`` on a free port, until the block ends (then Ctrl-C): its PID and URL once it answers."""
     port = free_port()
-    server = subprocess.Popen([sys.executable, "-m", "exprclone", "serve", "--port", str(port), *flags])
+    # (what it prints, its address, would come among the figures; its errors do come, on stderr)
+    server = subprocess.Popen([sys.executable, "-m", "exprclone", "serve", "--port", str(port), *flags], stdout=subprocess.DEVNULL)
     url = f"http://127.0.0.1:{port}"
     try:
         while True:

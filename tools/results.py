@@ -17,6 +17,7 @@ Example (the run behind the published pages)::
     python tools/results.py evaluate --data ../shared/data/london --pairs 300 --jobs 2 --global-warps similarity,rbf
     python tools/results.py bench run --repeat 5 --quick
     python tools/results.py bench video --repeat 3
+    python tools/results.py bench serve --scheduler --requests 30
     python tools/results.py judges --jobs 2
 """
 
@@ -37,6 +38,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = ROOT / "docs" / "results"
 KEPT = PAGES / "data"
+#: a benchmark's flags that make it measure another thing: its output with one is kept apart (``serve-scheduler.txt``).
+MODES = ("--scheduler",)
 #: the report files of ``exprclone evaluate`` kept for the pages.
 REPORT_FILES = ("pairs.csv", "summary.md", "gallery.jpg")
 
@@ -86,20 +89,20 @@ def collect_evaluate(args: list[str]) -> None:
 
 
 def collect_bench(name: str, args: list[str]) -> None:
-    """Run ``benchmarks/NAME.py ARGS``; keep what it prints and the run's facts."""
+    """Run ``benchmarks/NAME.py ARGS``; keep what it prints and the run's facts (apart for each of :data:`MODES` given)."""
     script = ROOT / "benchmarks" / f"{name}.py"
     if not script.exists():
         sys.exit(f"results: no benchmark {name!r} in benchmarks/")
-    _collect_printed(script, args, KEPT / "bench")
+    _collect_printed(script, args, KEPT / "bench", "".join(mode.replace("--", "-") for mode in MODES if mode in args))
 
 
-def _collect_printed(script: Path, args: list[str], out: Path) -> None:
-    """Run ``script ARGS``; keep what it prints (``out/NAME.txt``) and the run's facts (``out/NAME.json``)."""
+def _collect_printed(script: Path, args: list[str], out: Path, suffix: str = "") -> None:
+    """Run ``script ARGS``; keep what it prints (``out/NAME[SUFFIX].txt``) and the run's facts (``.json``)."""
     done, seconds = _run([sys.executable, str(script), *args], stdout=subprocess.PIPE)
     out.mkdir(parents=True, exist_ok=True)
-    (out / f"{script.stem}.txt").write_text(done.stdout)
+    (out / f"{script.stem}{suffix}.txt").write_text(done.stdout)
     meta = _meta(["python", str(script.relative_to(ROOT)), *args], _option(args, "--data", "../shared/data"), seconds)
-    (out / f"{script.stem}.json").write_text(json.dumps(meta, indent=1) + "\n")
+    (out / f"{script.stem}{suffix}.json").write_text(json.dumps(meta, indent=1) + "\n")
 
 
 # ---- the pages, from what was kept ------------------------------------------------------------------------------------------
@@ -295,7 +298,7 @@ def render_speed() -> None:
         text += ["No benchmark has been kept yet: ``python tools/results.py bench NAME``.", ""]
     for output in kept:
         meta = json.loads(output.with_suffix(".json").read_text())
-        title = f"``benchmarks/{output.stem}.py``"
+        title = f"``{meta['command'].removeprefix('python ')}``"
         text += [title, "-" * len(title), ""] + _facts(meta) + ["::", ""]
         text += ["   " + line if line.strip() else "" for line in output.read_text().splitlines()] + [""]
     (PAGES / "speed.rst").write_text("\n".join(text))
