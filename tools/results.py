@@ -17,7 +17,7 @@ Example (the run behind the published pages)::
     python tools/results.py evaluate --data ../shared/data/london --pairs 300 --jobs 2 --global-warps similarity,rbf
     python tools/results.py bench run --repeat 5 --quick
     python tools/results.py bench video --repeat 3
-    python tools/results.py bench serve --scheduler --requests 30
+    python tools/results.py bench serve --scheduler --requests 60
     python tools/results.py judges --jobs 2
 """
 
