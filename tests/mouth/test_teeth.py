@@ -1,5 +1,7 @@
 """The colour of teeth in white light, and the pull of the paste's colour toward it."""
 
+import dataclasses
+
 import cv2
 import numpy as np
 import pytest
@@ -7,9 +9,9 @@ import pytest
 from exprclone import drive
 from exprclone.drive.framing import resize_portrait
 from exprclone.io.video import read_frames
-from exprclone.landmarks import lips
+from exprclone.landmarks import align, lips
 from exprclone.landmarks.layout import DLIB68
-from exprclone.mouth import illuminant, measure, teeth, tone
+from exprclone.mouth import illuminant, measure, paste, teeth, tone
 
 
 def in_mouth(image, points, factors):
@@ -142,3 +144,30 @@ def test_a_video_reads_its_teeth_once_and_the_paste_keeps_its_colour(grid_clip, 
         if measure.opening(p, layout) >= measure.OPENING[1]
     ]
     assert len(colours) > 10 and np.ptp(colours, axis=0).max() < 1e-9
+
+
+def test_a_video_reads_its_cameras_grain_once_and_every_paste_gets_it(grid_clip, photo):
+    """The packaged clip: the driver's blur and noise read once, the median of its open frames'; a patch pasted from any
+    frame is blurred and noised alike, where read on each frame it was not (its frames measure differently)."""
+    portrait = resize_portrait(photo("003")[0], None, 256)[0]
+    recording = drive.prepare(portrait, None, lambda: read_frames(grid_clip), 25.0, neutral_frame="closed")
+    reference, layout = recording.driver.cloner.faces.mouth_reference, DLIB68
+    opened = [
+        (f, lips.uncross(p, layout))
+        for f, p in zip(read_frames(grid_clip), recording.points)
+        if measure.opening(p, layout) >= measure.OPENING[1]
+    ]
+    scale = align.interocular(recording.driver.cloner.faces.t_neu, layout) / align.interocular(opened[0][1], layout)
+    each = [paste.grain(f, p, reference, scale) for f, p in opened]
+    blur, noise = reference.source_grain
+    assert min(b for b, _ in each) <= blur <= max(b for b, _ in each) and np.ptp([n for _, n in each], axis=0).max() > 0
+    patch, gain = np.full((16, 16, 3), 120.0, np.float32), np.ones(3)
+    pasted = {
+        read: [
+            paste.match_grain(patch, f, p, reference if read == "once" else dataclasses.replace(reference, source_grain=None), scale, gain)
+            for f, p in opened[:6]
+        ]
+        for read in ("once", "each")
+    }
+    assert all(np.array_equal(pasted["once"][0], other) for other in pasted["once"][1:])
+    assert not all(np.array_equal(pasted["each"][0], other) for other in pasted["each"][1:])

@@ -53,13 +53,11 @@ def match_grain(
 ) -> np.ndarray:
     """Blur and noise a patch of the source photo until they are the target photo's.
 
-    Both are measured on the face (:func:`exprclone.mouth.tone.face_box`), the source's brought to the
-    target's scale first, as its pixels are in the patch: the patch is blurred by the
-    Gaussian that takes the source's edge blur to the target's (:func:`exprclone.mouth.camera.blur_sigma`;
-    nothing when the target is the sharper: lost detail is not made up), then given
-    Gaussian noise, seeded by :data:`NOISE_SEED`, that brings the noise left in it
-    (:func:`exprclone.mouth.camera.noise_sigma` of the source face so blurred, times the tone ``gain``) up
-    to the target's.
+    The patch is blurred by the Gaussian that takes the source's edge blur to the target's,
+    then given Gaussian noise, seeded by :data:`NOISE_SEED`, that brings the noise left in it
+    (times the tone ``gain``) up to the target's: the source's grain as :func:`grain` measures
+    it on this photo, or as the reference holds it (:attr:`exprclone.mouth.tone.Reference.source_grain`,
+    read once for a video's frames).
 
     Parameters
     ----------
@@ -78,13 +76,26 @@ def match_grain(
     -------
     ndarray of shape (h, w, 3), float32
     """
-    source_face = face_box(source, source_landmarks, scale)
-    sigma = np.sqrt(max(reference.blur**2 - blur_sigma(source_face) ** 2, 0.0))
+    sigma, left = reference.source_grain or grain(source, source_landmarks, reference, scale)
     if sigma > 0:
         patch = cv2.GaussianBlur(patch, (0, 0), sigma)
-        source_face = cv2.GaussianBlur(source_face, (0, 0), sigma)
-    missing = np.sqrt(np.maximum(reference.noise**2 - (gain * noise_sigma(source_face)) ** 2, 0.0))
+    missing = np.sqrt(np.maximum(reference.noise**2 - (gain * left) ** 2, 0.0))
     return patch + np.random.default_rng(NOISE_SEED).normal(0.0, 1.0, patch.shape).astype(np.float32) * missing.astype(np.float32)
+
+
+def grain(source: np.ndarray, source_landmarks: np.ndarray, reference: Reference, scale: float) -> tuple[float, np.ndarray]:
+    """The blur a patch of the source photo needs, and the noise left in it then (per channel, before the tone's gain).
+
+    Both are measured on the face (:func:`exprclone.mouth.tone.face_box`), the source's brought to the
+    target's ``scale`` first, as its pixels are in the patch: the Gaussian that takes the source's edge
+    blur to the target's (:func:`exprclone.mouth.camera.blur_sigma`; none when the target is the sharper:
+    lost detail is not made up), and :func:`exprclone.mouth.camera.noise_sigma` of the source face so blurred.
+    """
+    source_face = face_box(source, source_landmarks, scale)
+    sigma = float(np.sqrt(max(reference.blur**2 - blur_sigma(source_face) ** 2, 0.0)))
+    if sigma > 0:
+        source_face = cv2.GaussianBlur(source_face, (0, 0), sigma)
+    return sigma, noise_sigma(source_face)
 
 
 def fill_interior(

@@ -59,6 +59,9 @@ class Reference:
         The source's teeth and cavity read once for every expression (a driving video's
         most open frames), for the pull of their colour toward real ones'
         (:func:`exprclone.mouth.teeth.recolour`); None: read on each expression photo.
+    source_grain : tuple of (float, ndarray of shape (3,)) or None
+        The source camera's grain read once for every expression (the same frames): the blur a paste needs and the
+        noise left in it (:func:`exprclone.mouth.paste.grain`, medians); None: read on each expression photo.
     """
 
     light: illuminant.Light
@@ -67,6 +70,7 @@ class Reference:
     source_light: illuminant.Light | None = None
     source_face: np.ndarray | None = None
     source_interior: teeth.Interior | None = None
+    source_grain: tuple[float, np.ndarray] | None = None
 
     @classmethod
     def measure(

@@ -21,7 +21,7 @@ from ..geometry import db_metric, global_warp
 from ..imaging import piecewise
 from ..landmarks import align, lips
 from ..landmarks.layout import Layout
-from ..mouth import measure, teeth, tone
+from ..mouth import measure, paste, teeth, tone
 
 
 class Faces:
@@ -92,11 +92,14 @@ class Faces:
         return self.ratio_faces.expression(image, placed, motion, mesh)
 
     def pool_interior(self, frames: Sequence[np.ndarray], points: Sequence[np.ndarray]) -> None:
-        """Read the source's teeth and cavity once, pooled over frames of a performance, for every paste after.
+        """Read the source's teeth and cavity, and its camera's grain, once, pooled over frames of a performance, for
+        every paste after.
 
         Each frame's interior (:func:`exprclone.mouth.measure.interior`) is taken in the target's light; the pool
         (:attr:`exprclone.mouth.tone.Reference.source_interior`) gives every later paste its colour, the same in every
-        frame (:func:`exprclone.drive.prepare` reads the most open mouths of a video).
+        frame (:func:`exprclone.drive.prepare` reads the most open mouths of a video). The grain a paste needs
+        (:func:`exprclone.mouth.paste.grain`, at the target's scale) is the median of the frames'
+        (:attr:`exprclone.mouth.tone.Reference.source_grain`): one camera's, the same in every frame.
 
         Parameters
         ----------
@@ -112,4 +115,7 @@ class Faces:
         parts = [measure.interior(f, p, layout, tone.tone_gain(f, p, reference, layout)) for f, p in zip(frames, points)]
         pixels = (np.concatenate([f[m[0]] for f, m in zip(frames, parts)]), np.concatenate([f[m[1]] for f, m in zip(frames, parts)]))
         pooled = teeth.Interior.read(pixels, float(np.median([measure.mouth_width(p, layout) for p in points])))
-        self.mouth_reference = dataclasses.replace(reference, source_interior=pooled)
+        iod = align.interocular(self.t_neu, layout)
+        grains = [paste.grain(f, p, reference, iod / align.interocular(p, layout)) for f, p in zip(frames, points)]
+        pooled_grain = (float(np.median([g[0] for g in grains])), np.median([g[1] for g in grains], axis=0))
+        self.mouth_reference = dataclasses.replace(reference, source_interior=pooled, source_grain=pooled_grain)
