@@ -318,8 +318,10 @@ def render_video() -> None:
         "beside what it should match (in brackets): the teeth's yellowness and lightness over the cheeks (b*, L*) on the",
         "frames where they are in sight, beside the portrait person's own teeth in their real smile; the lip band's fall in",
         "L* when the mouth opens, beside the driver's own; the jitter of the mouth's landmarks where the driver's head is",
-        "still and the flicker of the mouth interior's colour, beside the driver's; and the correlation of the mouth's",
-        "opening with the driver's, from landmarks found afresh on the output (in brackets: from its rendered geometry).",
+        "still, beside the driver's (and the jitter of the output's rendered geometry, beside that of the driver's landmarks as",
+        "tracked: the steadiness of the output itself, apart from the detector's on it); the flicker of the mouth interior's",
+        "colour, beside the driver's; and the correlation of the mouth's opening with the driver's, from landmarks found",
+        "afresh on the output (in brackets: from its rendered geometry).",
         "The judges and their thresholds are in ``tools/video_judges.py``.",
         "",
     ]

@@ -19,7 +19,10 @@ palest and the three darkest of the London Set by their cheeks' L*
 - steadiness: the jitter of the mouth's landmarks (the mean length of their second difference
   over time, in eye distances, as :func:`exprclone.drive.tracking.jitter`) on the frames where
   the driver's head is still (its rigid landmarks move less than :data:`STILL` eye distances
-  a frame), the landmarks found afresh on every frame of the output and of the driver; and the
+  a frame), the landmarks found afresh on every frame of the output and of the driver (and, for
+  diagnosis, the same jitter of the output's rendered geometry beside that of the driver's
+  landmarks as tracked and smoothed: where the output's found landmarks jitter more than its
+  rendered ones, what the judge measures is the detector's own unsteadiness on the output); and the
   flicker of the mouth interior, the mean change from a frame to the next of the interior's
   mean (a*, b*), beside the driver's own interior's. The judges: each at most the driver's.
 - motion: the correlation over time of the mouth opening (:func:`exprclone.mouth.measure.opening`),
@@ -149,6 +152,8 @@ def judge(case: tuple[Path, str, Path, int, str]) -> dict:
         "still": int(still.sum()),
         "jitter": tracking.jitter(found, mouth, frames=still),
         "driver_jitter": tracking.jitter(driver_found, mouth, frames=still),
+        "rendered_jitter": tracking.jitter(np.array(finals), mouth, frames=still),
+        "tracked_jitter": tracking.jitter(np.asarray(driver_points), mouth, frames=still),
         "flicker": steps(inner),
         "driver_flicker": steps(driver_inner),
         "correlation": float(np.corrcoef(opening, driver_opening)[0, 1]),
@@ -186,8 +191,8 @@ def main() -> None:
     cases = [(data, face, clip, args.size, args.method) for face in portraits for clip in clips]
     print(f"exprclone video judges: {args.method} at {args.size} px, portraits {' '.join(portraits)}, {len(clips)} GRID clips\n")
     print("clip | portrait | teeth frames | yellowness (own) | lightness (own) | lip fall (driver's) | ", end="")
-    print("jitter (driver's) | flicker (driver's) | opening r (rendered)")
-    print("---|---|---|---|---|---|---|---|---")
+    print("jitter (driver's) | rendered jitter (tracked) | flicker (driver's) | opening r (rendered)")
+    print("---|---|---|---|---|---|---|---|---|---")
     rows = []
     with concurrent.futures.ProcessPoolExecutor(args.jobs) if args.jobs > 1 else contextlib.nullcontext() as pool:
         for row in (pool.map if pool else map)(judge, cases):
@@ -196,6 +201,7 @@ def main() -> None:
             cells += [f"{row['yellow']:.1f} ({row['own_yellow']:.1f})", f"{row['light']:.1f} ({row['own_light']:.1f})"]
             cells += [f"{row['lip_fall']:.1f} ({row['driver_lip_fall']:.1f})"]
             cells += [f"{1000 * row['jitter']:.2f} ({1000 * row['driver_jitter']:.2f})"]
+            cells += [f"{1000 * row['rendered_jitter']:.2f} ({1000 * row['tracked_jitter']:.2f})"]
             cells += [f"{row['flicker']:.2f} ({row['driver_flicker']:.2f})"]
             cells += [f"{row['correlation']:.2f} ({row['rendered_correlation']:.2f})"]
             print(" | ".join(cells), flush=True)
@@ -210,6 +216,9 @@ def main() -> None:
     for name in ("correlation", "rendered_correlation"):
         values = [r[name] for r in rows]
         print(f"opening {name.replace('_', ' ')}: median {np.median(values):.2f}, least {min(values):.2f}")
+    steadier = sum(r["rendered_jitter"] <= r["tracked_jitter"] for r in rows)
+    ratio = np.median([r["jitter"] / r["rendered_jitter"] for r in rows])
+    print(f"rendered jitter at most the tracked driver's on {steadier} of {len(rows)} cases; found over rendered: median {ratio:.1f}x")
 
 
 if __name__ == "__main__":
