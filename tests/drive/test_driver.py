@@ -122,6 +122,14 @@ def test_neutral_photo_of_the_source(portrait, grid_clip):
     assert max(np.abs(m.astype(int) - portrait).mean() for m in moved) > 1.0
 
 
+def test_frames_rendered_at_once_are_those_rendered_one_by_one(driven, grid_clip):
+    """The driver's threads give every frame, in order, as it renders alone."""
+    recording, frames = driven[True]
+    alone = [recording.driver.render(f, p, i) for i, (f, p) in enumerate(zip(read_frames(grid_clip), recording.points))]
+    assert [f.index for f in frames] == list(range(len(alone))) and len(alone) == 75
+    assert all(np.array_equal(a.image, b.image) for a, b in zip(alone, frames))
+
+
 def test_frames_from_a_stream_that_cannot_be_read_twice(driven, grid_clip):
     """A live source (a webcam, a socket) is read once: the driver renders any iterator of frames with their landmarks."""
     recording, frames = driven[True]
