@@ -233,7 +233,7 @@ def _warmth_sheet(
         method, (a, b) = r["method"][: len(r["method"]) - len(label)], (r["source"], r["target"])
         result = clone_pair(data, (a, b), (method,), landmarks, options)[method]
         neutral, found = photo(data.path(b, False)), landmarks[data.path(b, False)]
-        darker = shadows(result.image, result.landmarks["final"], neutral, found, DLIB68)[0]
+        darker = shadows(result.image, result.landmarks["final"], neutral, found, DLIB68).darker
         outlined = result.image.copy()
         contours, _ = cv2.findContours(darker.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
         cv2.drawContours(outlined, contours, -1, (0, 255, 255), 3)

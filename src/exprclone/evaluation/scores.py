@@ -22,7 +22,7 @@ person's real smile, a clone of A's smile onto B can be compared with B's own sm
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import cv2
 import numpy as np
@@ -146,17 +146,28 @@ def warmth(result: np.ndarray, landmarks: np.ndarray, neutral: np.ndarray, neutr
     -------
     float
     """
-    darker, warmer, skin = shadows(result, landmarks, neutral, neutral_landmarks, layout)
-    if darker.sum() < WARMTH_SHARE * skin.sum() or not darker.any():
+    found = shadows(result, landmarks, neutral, neutral_landmarks, layout)
+    if found.darker.sum() < WARMTH_SHARE * found.skin.sum() or not found.darker.any():
         return float("nan")
-    return float(np.median(warmer[darker]))
+    return float(np.median(found.warmer[found.darker]))
 
 
-def shadows(
-    result: np.ndarray, landmarks: np.ndarray, neutral: np.ndarray, neutral_landmarks: np.ndarray, layout: Layout
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Where :func:`warmth` measures, and what: the skin that darkens by more than :data:`DARKER` L* (``(H, W)`` bool),
-    ``(C*_result / C*_neutral) / (L*_result / L*_neutral)`` at every pixel (``(H, W)``), and the skin (:func:`skin_of`)."""
+class Shadows(NamedTuple):
+    """Where :func:`warmth` measures, and what, on a face of shape ``(H, W)`` (:func:`shadows`)."""
+
+    #: the skin that darkens by more than :data:`DARKER` L*, ``(H, W)`` bool.
+    darker: np.ndarray
+    #: ``(C*_result / C*_neutral) / (L*_result / L*_neutral)`` at every pixel.
+    warmer: np.ndarray
+    #: the skin (:func:`skin_of`).
+    skin: np.ndarray
+    #: ``L*_result / L*_neutral`` at every pixel.
+    lighter: np.ndarray
+
+
+def shadows(result: np.ndarray, landmarks: np.ndarray, neutral: np.ndarray, neutral_landmarks: np.ndarray, layout: Layout) -> Shadows:
+    """Where :func:`warmth` measures, and what (:class:`Shadows`): the face's lightness and chroma against its neutral
+    photo's warped onto its landmarks, both blurred by :data:`WARMTH_BLUR` inter-ocular distances."""
     mesh = piecewise.build_mesh(neutral_landmarks, neutral.shape, layout)
     control = mesh.control_points(landmarks, align.fit_rigid(neutral_landmarks, landmarks, layout))
     warped = piecewise.warp(neutral, mesh.points, control, mesh.triangles, result.shape[:2])
@@ -165,8 +176,8 @@ def shadows(
     (l_r, chroma_r), (l_n, chroma_n) = ((x[..., 0], np.hypot(x[..., 1], x[..., 2])) for x in lab)
     skin = skin_of(result.shape, landmarks, layout)
     darker = skin & (l_r < l_n - DARKER) & (chroma_n > 1.0)
-    warmer = (chroma_r / np.maximum(chroma_n, 1e-6)) / (np.maximum(l_r, 1e-6) / np.maximum(l_n, 1e-6))
-    return darker, warmer, skin
+    lighter = np.maximum(l_r, 1e-6) / np.maximum(l_n, 1e-6)
+    return Shadows(darker, (chroma_r / np.maximum(chroma_n, 1e-6)) / lighter, skin, lighter)
 
 
 def material_swaps(result: CloneResult, source_neutral: np.ndarray, source_expression: np.ndarray, layout: Layout) -> np.ndarray:
