@@ -14,7 +14,9 @@ Printed for the clones of ``--pairs`` pairs (a person's smile onto another's neu
 evaluate`` draws them) and for every person cloned onto themselves, each beside the source's real smile; then the real
 smiles' warmth where their own ERI (the person cloned onto themselves, carried onto the smile's landmarks) shades the
 skin (below :data:`SHADED`) and where it does not (:data:`UNSHADED` and above): darkening that the ERI does not see is
-the registration of the neutral photo onto the smile's landmarks, or detail finer than the ERI's filter.
+the registration of the neutral photo onto the smile's landmarks, or detail finer than the ERI's filter. Last, on the
+skin that a person's clone onto themselves shades deeper than :data:`DEEP` (carried onto the smile), the depth and the
+log chroma ratio of the real smile and of the clone: how deep, and how much more saturated, the same skin gets.
 """
 
 from __future__ import annotations
@@ -39,6 +41,8 @@ from exprclone.pipeline.cloner import Cloner  # noqa: E402
 
 #: the ERI shades a pixel below this ratio, and leaves it alone from the next up.
 SHADED, UNSHADED = 0.95, 0.98
+#: where a person's clone onto themselves shades deeper than this, its skin is compared with their real smile's.
+DEEP = 0.92
 #: fewest counted pixels a median is taken over.
 MIN_PIXELS = 30
 
@@ -68,7 +72,8 @@ def one(task: tuple[Dataset, dict[str, np.ndarray], str, str, str]) -> dict[str,
         runner.photo(smile), marks[smile], (method,)
     )[method]
     found = default_detector().detect(result.image, "clone")
-    clone = steps(scores.shadows(result.image, found, runner.photo(onto), marks[onto], DLIB68), result.eri)
+    clone_found = scores.shadows(result.image, found, runner.photo(onto), marks[onto], DLIB68)
+    clone = steps(clone_found, result.eri)
     real = scores.shadows(runner.photo(smile), marks[smile], runner.photo(neutral), marks[neutral], DLIB68)
     row = dict(zip(("step", "depth", "eri_depth", "real_step", "real_depth"), (*clone, *steps(real)[:2])))
     if source == target and real.darker.sum() >= MIN_PIXELS:
@@ -77,6 +82,11 @@ def one(task: tuple[Dataset, dict[str, np.ndarray], str, str, str]) -> dict[str,
             counted = real.darker & where
             row[name] = float(np.median(real.warmer[counted])) if counted.sum() >= MIN_PIXELS else np.nan
             row[f"{name}_share"] = float(counted.sum() / real.darker.sum())
+        deep = (real.skin & (own < DEEP) & (own > 0), clone_found.skin & (result.eri < DEEP))
+        if min(m.sum() for m in deep) >= MIN_PIXELS:
+            for name, face, where in (("real", real, deep[0]), ("clone", clone_found, deep[1])):
+                row[f"{name}_deep"] = float(np.median(-np.log(face.lighter[where])))
+                row[f"{name}_chroma"] = float(np.median(np.log(face.warmer[where] * face.lighter[where])))
     return row
 
 
@@ -113,6 +123,11 @@ def main() -> None:
         values = [r[name] for r in own if np.isfinite(r[name])]
         share = np.median([r[f"{name}_share"] for r in own])
         print(f"  {where}: {np.median(values):.3f} ({len(values)} smiles, {share:.0%} of their counted skin)")
+    same = [r for r in own if "real_deep" in r]
+    print(f"\nwhere a person's clone onto themselves shades deeper than {DEEP} ({len(same)} people), on the same skin:")
+    for name, title in (("real", "real smile"), ("clone", "clone onto themselves")):
+        depth, chroma = (np.median([r[f"{name}_{k}"] for r in same]) for k in ("deep", "chroma"))
+        print(f"  {title}: depth {depth:.3f}, log chroma ratio {chroma:+.3f}")
 
 
 if __name__ == "__main__":
