@@ -261,7 +261,8 @@ def ratio_on_grid(
     ratio = (y_expression + raster.EPS) / (neutral[..., N_LUMA] + raster.EPS)
     # the colour tests compare each pixel with the face where the geometry and the texture trust it
     photos = ((neutral[..., N_ENERGY], neutral[..., N_LUMA]), (expression[..., coarse.ENERGY], y_expression))
-    face = mask * np.minimum(*(texture(energy, luma, sigma) for energy, luma in photos))
+    smooth = np.minimum(*(texture(energy, luma, sigma) for energy, luma in photos))  # neither photo textured
+    face = mask * smooth
     colour = gate.colour(expression, sigma)
     trust = neutral[..., N_SKIN] if target is None else neutral[..., N_SKIN] * target
     weight = face * gate.skin(colour, neutral[..., N_CHROMA], trust, face, exempt, hue)
@@ -275,7 +276,7 @@ def ratio_on_grid(
     out[..., RATIO] = 1.0 + weight * (ratio - 1.0)
     light = np.zeros(2, np.float32)
     if still is not None:  # the light's colour: the chromaticity's change over the skin the expression leaves still
-        reference = raster.evenly(still * np.minimum(*(texture(energy, luma, sigma) for energy, luma in photos)) * trust)
+        reference = raster.evenly(still * smooth * trust)
         lit = change.reshape(-1, 2)[reference]
         light = np.median(lit, axis=0) if len(lit) >= MIN_STILL else light
     trusted = raster.evenly(weight)
