@@ -51,7 +51,7 @@ LAMBDA_FRAMES = 5
 #: the frames that choose lambda_k are at least this many seconds apart.
 LAMBDA_SPACING = 0.5
 #: threads that render a performance's frames at once (:meth:`Driver.frames`), and how many frames they may be ahead
-#: of the one given out. On 2 cores (``benchmarks/video.py``) two made the whole video job 1.2-1.3x faster.
+#: of the one given out. On 2 cores (``benchmarks/video.py``) two made the whole video job about 1.2x faster.
 RENDERERS, AHEAD = 2, 4
 #: the most open frames (as far apart) on which the source's teeth and cavity are read once for the whole video.
 TEETH_FRAMES = 5
