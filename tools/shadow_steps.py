@@ -22,7 +22,6 @@ log chroma ratio of the real smile and of the clone: how deep, and how much more
 from __future__ import annotations
 
 import argparse
-import concurrent.futures
 import os
 import sys
 from pathlib import Path
@@ -34,10 +33,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 from exprclone.evaluation import runner, scores  # noqa: E402
 from exprclone.evaluation.london import Dataset  # noqa: E402
 from exprclone.imaging import piecewise  # noqa: E402
+from exprclone.io.progress import Quiet  # noqa: E402
 from exprclone.landmarks import align  # noqa: E402
-from exprclone.landmarks.backends import default_detector  # noqa: E402
+from exprclone.landmarks.backends import shared  # noqa: E402
 from exprclone.landmarks.layout import DLIB68  # noqa: E402
-from exprclone.pipeline.cloner import Cloner  # noqa: E402
 
 #: the ERI shades a pixel below this ratio, and leaves it alone from the next up.
 SHADED, UNSHADED = 0.95, 0.98
@@ -60,18 +59,15 @@ def carried(eri: np.ndarray, final: np.ndarray, onto: np.ndarray, shape: tuple[i
     """A clone's ERI (in its final geometry ``final``) carried onto a photo of ``shape`` whose landmarks are ``onto``."""
     mesh = piecewise.build_mesh(final, eri.shape, DLIB68)
     control = mesh.control_points(onto, align.fit_rigid(final, onto, DLIB68))
-    coded = np.clip(eri * 128, 0, 255).astype(np.uint8)[..., None].repeat(3, 2)
-    return piecewise.warp(coded, mesh.points, control, mesh.triangles, shape[:2])[..., 0] / 128.0
+    return piecewise.warp(eri, mesh.points, control, mesh.triangles, shape[:2])
 
 
 def one(task: tuple[Dataset, dict[str, np.ndarray], str, str, str]) -> dict[str, float]:
     """One clone (``source``'s smile onto ``target``'s neutral photo) scored, and its source's real smile."""
     data, marks, method, source, target = task
     neutral, smile, onto = (data.path(source, False), data.path(source, True), data.path(target, False))
-    result = Cloner(runner.photo(neutral), marks[neutral], runner.photo(onto), marks[onto]).clone_methods(
-        runner.photo(smile), marks[smile], (method,)
-    )[method]
-    found = default_detector().detect(result.image, "clone")
+    result = runner.clone_pair(data, (source, target), (method,), marks)[method]
+    found = shared(runner.JUDGE).detect(result.image, "clone")
     clone_found = scores.shadows(result.image, found, runner.photo(onto), marks[onto], DLIB68)
     clone = steps(clone_found, result.eri)
     real = scores.shadows(runner.photo(smile), marks[smile], runner.photo(neutral), marks[neutral], DLIB68)
@@ -108,12 +104,11 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     args = parser.parse_args()
     data = Dataset.open(args.data)
-    detect = default_detector().detect
-    marks = {data.path(p, s): detect(runner.photo(data.path(p, s)), data.path(p, s)) for p in data.ids for s in (False, True)}
+    paths = [data.path(p, s) for p in data.ids for s in (False, True)]
+    marks = {path: shared(runner.JUDGE).detect(runner.photo(path), path) for path in paths}  # as exprclone evaluate's
     pairs = data.pairs(args.pairs, args.seed)
     tasks = [(data, marks, args.method, a, b) for a, b in [*pairs, *((p, p) for p in data.ids)]]
-    with concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
-        rows = list(pool.map(one, tasks))
+    rows = list(runner.in_parallel(one, tasks, args.jobs, Quiet(len(tasks), "clones")))
     print(f"shadow steps: {args.method}, {args.data}, {len(pairs)} pairs (seed {args.seed}) and {len(data.ids)} people onto themselves\n")
     summary(rows[: len(pairs)], "onto another person")
     summary(rows[len(pairs) :], "onto themselves")
