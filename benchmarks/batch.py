@@ -27,6 +27,9 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+import datadir  # noqa: E402
+
 
 def pairs(data: Path, n: int) -> list[tuple[str, str]]:
     ids = sorted(p.name[:3] for p in (data / "london" / "neutral_front").glob("*_03.jpg"))
@@ -100,7 +103,7 @@ def batch(data: Path, chosen: list, *extra: str, watch: int | None = None) -> tu
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", "../shared/data")))
+    datadir.add_argument(parser)
     parser.add_argument("--pairs", type=int, default=100)
     parser.add_argument("--loop", type=int, default=10)
     parser.add_argument("--large", type=int, default=1000)

@@ -30,11 +30,15 @@ from __future__ import annotations
 import argparse
 import os
 import statistics
+import sys
 import time
 from pathlib import Path
 
 import cv2
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+import datadir  # noqa: E402
 
 import exprclone.expressions
 from exprclone.evaluation.groups import make
@@ -145,7 +149,7 @@ def compare_speed(london: Path, repeat: int) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+    datadir.add_argument(parser)
     parser.add_argument("--photos", type=int, default=6, help="group photos for the detectors (default: 6)")
     parser.add_argument("--repeat", type=int, default=5, help="runs of each clone (default: 5)")
     args = parser.parse_args()

@@ -31,7 +31,6 @@ Run from the repository root::
 from __future__ import annotations
 
 import argparse
-import os
 import subprocess
 import sys
 import tempfile
@@ -40,6 +39,9 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+import datadir  # noqa: E402
 
 from exprclone import data as samples
 from exprclone.drive import tracking
@@ -150,7 +152,7 @@ def one_shot(runs: int) -> dict[str, list[float]]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"), help="folder holding london/")
+    datadir.add_argument(parser, holds="the folder holding london/")
     parser.add_argument("--runs", type=int, default=5, help="runs of the one-shot command with each landmarker")
     args = parser.parse_args()
     people = templates(Path(args.data) / "london")

@@ -36,6 +36,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+import datadir  # noqa: E402
+
 from exprclone import METHODS, clone, clone_methods
 from exprclone.details import muscle
 from exprclone.geometry import db_metric, eigenface, elastic, global_warp, local_warp
@@ -220,7 +223,7 @@ def show(title: str, rows: dict[str, float], ratio_to: str | None = None) -> Non
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+    datadir.add_argument(parser)
     parser.add_argument("--repeat", type=int, default=7)
     parser.add_argument("--quick", action="store_true", help="skip the size sweep and the start-up timing")
     args = parser.parse_args()

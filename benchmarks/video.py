@@ -22,11 +22,14 @@ from __future__ import annotations
 import argparse
 import io
 import os
+import sys
 import tempfile
 import warnings
 from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+import datadir  # noqa: E402
 from run import interleaved_ms, median_ms
 
 from exprclone import cli, drive
@@ -77,7 +80,7 @@ def detail_steps(cloner: Cloner, frames: list, points, lambda_k: float, repeat: 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+    datadir.add_argument(parser)
     parser.add_argument("--clip", default="bbaf2n")
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args()

@@ -21,11 +21,11 @@ import collections
 import functools
 import itertools
 import multiprocessing
-import os
 import time
 import warnings
 from pathlib import Path
 
+import datadir
 import numpy as np
 
 from exprclone import METHODS, clone_methods
@@ -79,7 +79,7 @@ def run_pair(job):
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+    datadir.add_argument(parser)
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--limit", type=int, default=0, help="only N pairs drawn at random, seed 0 (0: all)")
     parser.add_argument("--paper-only", action="store_true", help="only the paper's setting (similarity, mesh, strength 1)")

@@ -24,6 +24,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+import datadir
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -72,7 +74,7 @@ def main() -> int:
     r.add_argument("output")
     r.add_argument("--ref", help="a git commit to run instead of the working tree")
     r.add_argument("--pairs", type=int, default=20)
-    r.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", ROOT.parent / "shared" / "data")))
+    datadir.add_argument(r)
     c = sub.add_parser("compare")
     c.add_argument("before")
     c.add_argument("after")

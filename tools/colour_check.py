@@ -77,6 +77,7 @@ import tempfile
 from pathlib import Path
 
 import cv2
+import datadir
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -599,7 +600,7 @@ def write_strip(args: argparse.Namespace) -> int:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", ROOT.parent / "shared" / "data")))
+    datadir.add_argument(parser)
     parser.add_argument("--portraits", nargs="*", default=list(PORTRAITS))
     parser.add_argument("--clips", nargs="*", help="clip names (default: every clip in DATA/grid)")
     parser.add_argument("--size", type=int, default=512)

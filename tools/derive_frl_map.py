@@ -18,15 +18,15 @@ Run from the repository root::
 
     PYTHONPATH=src python tools/derive_frl_map.py [--data DIR]
 
-DIR defaults to $EXPRCLONE_DATA, else ``../shared/data`` next to the repository.
+DIR defaults to $EXPRCLONE_DATA, else ``../shared/data`` beside the checkout.
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 
+import datadir
 import numpy as np
 
 from exprclone.io.images import load_image
@@ -136,9 +136,8 @@ def choose(i: int, dlib_pts: np.ndarray, tem_pts: np.ndarray, ipd: np.ndarray) -
 
 
 def main() -> None:
-    default = os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data")
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=Path(default), help="data folder holding london/")
+    datadir.add_argument(parser, holds="the folder holding london/")
     args = parser.parse_args()
 
     dlib_pts, tem_pts = load_faces(args.data)

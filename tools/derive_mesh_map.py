@@ -21,16 +21,15 @@ Run from the repository root, and paste the printed table into ``src/exprclone/m
 
     PYTHONPATH=src python tools/derive_mesh_map.py [--data DIR]
 
-DIR defaults to $EXPRCLONE_DATA, else ``../shared/data`` next to the repository.
+DIR defaults to $EXPRCLONE_DATA, else ``../shared/data`` beside the checkout.
 """
 
 from __future__ import annotations
 
 import argparse
 import itertools
-import os
-from pathlib import Path
 
+import datadir
 import numpy as np
 
 from exprclone.evaluation.accuracy import point_errors, region_errors, split, templates
@@ -131,9 +130,8 @@ def apply(table: tuple, mesh: np.ndarray) -> np.ndarray:
 
 
 def main() -> None:
-    default = os.environ.get("EXPRCLONE_DATA", Path(__file__).resolve().parents[2] / "shared" / "data")
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=Path(default), help="data folder holding london/")
+    datadir.add_argument(parser, holds="the folder holding london/")
     args = parser.parse_args()
 
     people = templates(args.data / "london")

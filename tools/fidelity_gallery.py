@@ -30,6 +30,7 @@ import types
 from pathlib import Path
 
 import cv2
+import datadir
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -146,7 +147,7 @@ def ring_table(data: Path, ring: list[tuple[str, str]], before: Path, after: Pat
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", ROOT.parent / "shared" / "data")) / "london")
+    datadir.add_argument(parser, "london", holds="the London Set folder")
     parser.add_argument("--scores", type=Path, help="pairs.csv of an evaluate run of the before commit")
     parser.add_argument("--before-ref", default="9950aa4")
     parser.add_argument("--worst", type=int, default=10)

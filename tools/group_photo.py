@@ -13,9 +13,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
 from pathlib import Path
+
+import datadir
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
@@ -41,7 +42,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0, help="the background's (default: 0)")
     parser.add_argument("--tilts", help="each head turned in the photo's plane, degrees (default: upright)")
     parser.add_argument("--smiling", action="store_true", help="their smiling photos instead of their neutral ones")
-    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"), help="holds london/")
+    datadir.add_argument(parser, holds="the folder holding london/")
     args = parser.parse_args()
     from exprclone.io.images import save_image
 

@@ -10,9 +10,8 @@ The offline zero-phase filter of ``exprclone video`` is the peer (no lag by cons
 """
 
 import argparse
-import os
-from pathlib import Path
 
+import datadir
 import numpy as np
 
 from exprclone.drive import tracking
@@ -34,7 +33,7 @@ def lag_ms(raw: np.ndarray, filtered: np.ndarray, fps: float) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", "../shared/data")))
+    datadir.add_argument(parser)
     parser.add_argument("--settings", nargs="*", default=[f"{tracking.ONE_EURO_MIN_CUTOFF},{tracking.ONE_EURO_BETA}"])
     args = parser.parse_args()
     tracks = {}

@@ -361,6 +361,9 @@ def main(argv: list[str]) -> None:
         collect_bench(argv[1], argv[2:])
     elif what == "judges":
         _collect_printed(ROOT / "tools" / "video_judges.py", argv[1:], KEPT / "judges")
+    elif what in ("-h", "--help"):
+        print(__doc__)
+        return
     elif what != "render":
         sys.exit(__doc__)
     render()

@@ -20,6 +20,7 @@ import json
 import sys
 from pathlib import Path
 
+import datadir
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
@@ -97,7 +98,7 @@ def judged(people: list[str], photos: dict[str, role_check.Photo], others: int) 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--data", type=Path, default=Path(__file__).resolve().parents[2] / "shared" / "data" / "london")
+    datadir.add_argument(parser, "london", holds="the London Set folder")
     parser.add_argument("--others", type=int, default=5, help="other people's smiles per person (default: 5)")
     parser.add_argument("--write-template", action="store_true", help="write the mean neutral face and the smile's direction first")
     args = parser.parse_args()

@@ -26,6 +26,7 @@ import os
 import sys
 from pathlib import Path
 
+import datadir
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
@@ -97,7 +98,7 @@ def summary(rows: list[dict[str, float]], title: str) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", default=os.path.join(os.environ.get("EXPRCLONE_DATA", "../shared/data"), "london"))
+    datadir.add_argument(parser, "london", holds="the London Set folder")
     parser.add_argument("--pairs", type=int, default=80)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--method", default="global+eri")

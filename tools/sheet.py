@@ -7,9 +7,9 @@ seven methods of Fig. 11 applied to B, and B's real smile, all cropped to B's fa
 """
 
 import argparse
-import os
 from pathlib import Path
 
+import datadir
 import numpy as np
 
 from exprclone import METHODS, clone_methods
@@ -21,7 +21,7 @@ from exprclone.landmarks.backends import default_detector
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+    datadir.add_argument(parser)
     parser.add_argument("--pairs", type=int, default=5)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("-o", "--output", default="out/sheet.jpg")

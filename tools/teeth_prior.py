@@ -18,11 +18,11 @@ skin cue) is printed for comparison.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from pathlib import Path
 
 import cv2
+import datadir
 import numpy as np
 
 from exprclone.io.images import load_image
@@ -61,7 +61,7 @@ def spread(colours: list[np.ndarray]) -> str:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=Path(os.environ.get("EXPRCLONE_DATA", ROOT.parent / "shared" / "data")))
+    datadir.add_argument(parser)
     parser.add_argument("--widths", type=int, nargs="*", default=list(WIDTHS))
     args = parser.parse_args()
     london, detector = args.data / "london", default_detector()

@@ -13,11 +13,11 @@ is timed against the mesh warp (medians of 5 runs, interleaved).
 from __future__ import annotations
 
 import argparse
-import os
 import statistics
 import time
 from pathlib import Path
 
+import datadir
 import numpy as np
 from scipy.interpolate import RBFInterpolator
 
@@ -67,7 +67,7 @@ def timings(image, mesh, control, repeat: int = 5) -> tuple[float, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+    datadir.add_argument(parser)
     parser.add_argument("--pairs", type=int, default=20)
     parser.add_argument("--steps", nargs="+", default=["8,8", "8,4", "8,2", "4,4"], help="grid steps: face, mouth")
     args = parser.parse_args()

@@ -8,8 +8,9 @@ PCA, so the basis spans expression (here: smiling) rather than identity.
 """
 
 import argparse
-import os
 from pathlib import Path
+
+import datadir
 
 from exprclone.geometry.eigenface import train
 from exprclone.io.images import load_image
@@ -17,7 +18,7 @@ from exprclone.landmarks.dlib import Detector
 from exprclone.landmarks.layout import DLIB68
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+datadir.add_argument(parser)
 parser.add_argument("-o", "--output", default=str(Path(__file__).parents[1] / "src/exprclone/data/eigenfaces.npz"))
 args = parser.parse_args()
 london = Path(args.data) / "london"

@@ -13,9 +13,9 @@ frames without a face; the lambda_k chosen for the video; the neutral frame.
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 
+import datadir
 import numpy as np
 
 from exprclone import drive
@@ -36,7 +36,7 @@ def openings(points: np.ndarray) -> np.ndarray:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+    datadir.add_argument(parser)
     parser.add_argument("--portrait", default="003")
     parser.add_argument("--size", type=int, default=256)
     parser.add_argument("--neutral-frame", default=None, help="a frame number, or closed (default: the first frame with a face)")

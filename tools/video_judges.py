@@ -43,6 +43,7 @@ import os
 from pathlib import Path
 
 import cv2
+import datadir
 import numpy as np
 from colour_check import inner_mask, lab, regions, skin_lightness, steps
 
@@ -174,7 +175,7 @@ def verdicts(row: dict) -> dict[str, bool | None]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", default=os.environ.get("EXPRCLONE_DATA", "../shared/data"))
+    datadir.add_argument(parser)
     parser.add_argument("--portraits", nargs="*", help="London ids (default: the three palest and the three darkest)")
     parser.add_argument("--clips", nargs="*", help="GRID clip names (default: all)")
     parser.add_argument("--size", type=int, default=512)
@@ -188,6 +189,8 @@ def main() -> None:
         ranked = [face for face, _ in skin_lightness(data)]
         portraits = ranked[:3] + ranked[-3:]
     clips = [p for p in sorted((data / "grid").glob("*.mpg")) if not args.clips or p.stem in args.clips]
+    if not clips or not portraits:
+        raise SystemExit(f"video_judges: no GRID clips ({data / 'grid'}/*.mpg) or no London portraits ({data / 'london'}) to judge")
     cases = [(data, face, clip, args.size, args.method) for face in portraits for clip in clips]
     print(f"exprclone video judges: {args.method} at {args.size} px, portraits {' '.join(portraits)}, {len(clips)} GRID clips\n")
     print("clip | portrait | teeth frames | yellowness (own) | lightness (own) | lip fall (driver's) | ", end="")
