@@ -320,8 +320,9 @@ def render_video() -> None:
         "L* when the mouth opens, beside the driver's own; the jitter of the mouth's landmarks where the driver's head is",
         "still, beside the driver's (and the jitter of the output's rendered geometry, beside that of the driver's landmarks as",
         "tracked: the steadiness of the output itself, apart from the detector's on it); the flicker of the mouth interior's",
-        "colour, beside the driver's; and the correlation of the mouth's opening with the driver's, from landmarks found",
-        "afresh on the output (in brackets: from its rendered geometry).",
+        "colour, beside the driver's (and beside the driver's interior in the portrait's light: its pixels times the paste's",
+        "gain from the driver's light to the portrait's); and the correlation of the mouth's opening with the driver's, from",
+        "landmarks found afresh on the output (in brackets: from its rendered geometry).",
         "The judges and their thresholds are in ``tools/video_judges.py``.",
         "",
     ]

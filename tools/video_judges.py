@@ -24,7 +24,11 @@ palest and the three darkest of the London Set by their cheeks' L*
   landmarks as tracked and smoothed: where the output's found landmarks jitter more than its
   rendered ones, what the judge measures is the detector's own unsteadiness on the output); and the
   flicker of the mouth interior, the mean change from a frame to the next of the interior's
-  mean (a*, b*), beside the driver's own interior's. The judges: each at most the driver's.
+  mean (a*, b*), beside the driver's own interior's (and, for diagnosis, beside the driver's
+  interior in the portrait's light: its pixels times the paste's gain from the driver's light
+  to the portrait's, :func:`exprclone.mouth.tone.tone_gain`; a coloured light on the driver
+  narrows the contrasts of its interior's colours, which the same interior in white light
+  shows). The judges: each at most the driver's.
 - motion: the correlation over time of the mouth opening (:func:`exprclone.mouth.measure.opening`),
   the driver's against the output's, both from landmarks found afresh on each frame; and, for
   diagnosis, the same with the output's rendered geometry (its final landmarks) in place of
@@ -102,7 +106,7 @@ def judge(case: tuple[Path, str, Path, int, str]) -> dict:
     from exprclone.landmarks import lips
     from exprclone.landmarks.backends import default_detector
     from exprclone.landmarks.layout import DLIB68
-    from exprclone.mouth import measure
+    from exprclone.mouth import measure, tone
 
     data, face, clip, size, method = case
     portrait = resize_portrait(load_image(data / "london/neutral_front" / f"{face}_03.jpg"), None, size)[0]
@@ -118,7 +122,8 @@ def judge(case: tuple[Path, str, Path, int, str]) -> dict:
     frames = list(read_frames(clip))
     driver_band = lip_band(frames[neutral], driver_points[neutral])
     portrait_band = lip_band(portrait, portrait_points)
-    seen, falls, driver_falls, outputs, finals, inner, driver_inner = [], [], [], [], [], [], []
+    seen, falls, driver_falls, outputs, finals, inner, driver_inner, relit = [], [], [], [], [], [], [], []
+    reference = recording.driver.cloner.faces.mouth_reference
     for f in recording.frames(iter(frames)):
         final, points = f.result.landmarks["final"], driver_points[f.index]
         outputs.append(f.image)
@@ -130,7 +135,10 @@ def judge(case: tuple[Path, str, Path, int, str]) -> dict:
             falls.append(portrait_band - lip_band(f.image, final))
             driver_falls.append(driver_band - lip_band(f.driving, points))
         inner.append(lab(f.image[inner_mask(f.image.shape, final)])[:, 1:].mean(0) if opened else None)
-        driver_inner.append(lab(f.driving[inner_mask(f.driving.shape, points)])[:, 1:].mean(0) if opened else None)
+        driving = f.driving[inner_mask(f.driving.shape, points)]
+        driver_inner.append(lab(driving)[:, 1:].mean(0) if opened else None)
+        gain = tone.tone_gain(f.driving, points, reference, DLIB68)
+        relit.append(lab(np.clip(np.round(driving * gain), 0, 255).astype(np.uint8))[:, 1:].mean(0) if opened else None)
     mouth = DLIB68.mouth_outer + DLIB68.mouth_inner
     found = afresh(outputs, finals)  # the output's and the driver's landmarks found on every frame
     driver_found = afresh(frames, driver_points)
@@ -157,6 +165,7 @@ def judge(case: tuple[Path, str, Path, int, str]) -> dict:
         "tracked_jitter": tracking.jitter(np.asarray(driver_points), mouth, frames=still),
         "flicker": steps(inner),
         "driver_flicker": steps(driver_inner),
+        "relit_flicker": steps(relit),
         "correlation": float(np.corrcoef(opening, driver_opening)[0, 1]),
         "rendered_correlation": float(np.corrcoef(rendered, driver_opening)[0, 1]),
     }
@@ -194,7 +203,7 @@ def main() -> None:
     cases = [(data, face, clip, args.size, args.method) for face in portraits for clip in clips]
     print(f"exprclone video judges: {args.method} at {args.size} px, portraits {' '.join(portraits)}, {len(clips)} GRID clips\n")
     print("clip | portrait | teeth frames | yellowness (own) | lightness (own) | lip fall (driver's) | ", end="")
-    print("jitter (driver's) | rendered jitter (tracked) | flicker (driver's) | opening r (rendered)")
+    print("jitter (driver's) | rendered jitter (tracked) | flicker (driver's; in the portrait's light) | opening r (rendered)")
     print("---|---|---|---|---|---|---|---|---|---")
     rows = []
     with concurrent.futures.ProcessPoolExecutor(args.jobs) if args.jobs > 1 else contextlib.nullcontext() as pool:
@@ -205,7 +214,7 @@ def main() -> None:
             cells += [f"{row['lip_fall']:.1f} ({row['driver_lip_fall']:.1f})"]
             cells += [f"{1000 * row['jitter']:.2f} ({1000 * row['driver_jitter']:.2f})"]
             cells += [f"{1000 * row['rendered_jitter']:.2f} ({1000 * row['tracked_jitter']:.2f})"]
-            cells += [f"{row['flicker']:.2f} ({row['driver_flicker']:.2f})"]
+            cells += [f"{row['flicker']:.2f} ({row['driver_flicker']:.2f}; {row['relit_flicker']:.2f})"]
             cells += [f"{row['correlation']:.2f} ({row['rendered_correlation']:.2f})"]
             print(" | ".join(cells), flush=True)
     print("\njitter in thousandths of an eye distance; yellowness and lightness over the cheeks, in b* and L*")
@@ -222,6 +231,8 @@ def main() -> None:
     steadier = sum(r["rendered_jitter"] <= r["tracked_jitter"] for r in rows)
     ratio = np.median([r["jitter"] / r["rendered_jitter"] for r in rows])
     print(f"rendered jitter at most the tracked driver's on {steadier} of {len(rows)} cases; found over rendered: median {ratio:.1f}x")
+    relit = sum(r["flicker"] <= r["relit_flicker"] for r in rows if np.isfinite(r["flicker"]))
+    print(f"flicker at most the driver's interior's in the portrait's light on {relit} of {len(rows)} cases")
 
 
 if __name__ == "__main__":
