@@ -8,7 +8,10 @@ photo warped onto the face, :func:`exprclone.evaluation.scores.shadows`), each f
 - *per step*: the median of ``log(warmth) / -log(L*/L*_neutral)``, how much warmer its shadows grow for each step
   darker (0 for a shading that dims R, G and B alike);
 - *depth*: the median of ``-log(L*/L*_neutral)``; and for a clone the median of ``-log(ERI)`` there, how much of that
-  darkening its ERI made.
+  darkening its ERI made;
+- *the details' own* (for a method with ``+eri``): where its ERI is deeper than :data:`DEEP` on the counted skin, the
+  per step of the clone against the same clone without details (its geometry's method: ``global`` for ``global+eri``),
+  what the ERI and its tint alone do to the skin, printed with a 95% bootstrap interval of the median.
 
 Printed for the clones of ``--pairs`` pairs (a person's smile onto another's neutral photo, drawn as ``exprclone
 evaluate`` draws them) and for every person cloned onto themselves, each beside the source's real smile; then the real
@@ -45,6 +48,8 @@ SHADED, UNSHADED = 0.95, 0.98
 DEEP = 0.92
 #: fewest counted pixels a median is taken over.
 MIN_PIXELS = 30
+#: resamples of the bootstrap interval.
+BOOTSTRAP = 2000
 
 
 def steps(found: scores.Shadows, eri: np.ndarray | None = None) -> tuple[float, float, float]:
@@ -67,12 +72,17 @@ def one(task: tuple[Dataset, dict[str, np.ndarray], str, str, str]) -> dict[str,
     """One clone (``source``'s smile onto ``target``'s neutral photo) scored, and its source's real smile."""
     data, marks, method, source, target = task
     neutral, smile, onto = (data.path(source, False), data.path(source, True), data.path(target, False))
-    result = runner.clone_pair(data, (source, target), (method,), marks)[method]
+    geometry = method.split("+")[0] if method.endswith("+eri") else None
+    results = runner.clone_pair(data, (source, target), (method,) if geometry is None else (method, geometry), marks)
+    result = results[method]
     found = shared(runner.JUDGE).detect(result.image, "clone")
     clone_found = scores.shadows(result.image, found, runner.photo(onto), marks[onto], DLIB68)
     clone = steps(clone_found, result.eri)
     real = scores.shadows(runner.photo(smile), marks[smile], runner.photo(neutral), marks[neutral], DLIB68)
     row = dict(zip(("step", "depth", "eri_depth", "real_step", "real_depth"), (*clone, *steps(real)[:2])))
+    if geometry is not None:  # the clone against itself without details, on the same landmarks
+        own = scores.shadows(result.image, found, results[geometry].image, found, DLIB68)
+        row["details_step"] = steps(own._replace(darker=clone_found.darker & (result.eri < DEEP)))[0]
     if source == target and real.darker.sum() >= MIN_PIXELS:
         own = carried(result.eri, result.landmarks["final"][: len(marks[smile])], marks[smile], runner.photo(smile).shape)
         for name, where in (("shaded", own < SHADED), ("unshaded", own >= UNSHADED)):
@@ -94,6 +104,12 @@ def summary(rows: list[dict[str, float]], title: str) -> None:
     print(f"{title}: {len(both)} with counted skin on the clone and on the real smile")
     print("  per step: clone {:.3f}, source's real smile {:.3f}".format(medians[0], medians[3]))
     print("  depth: clone {:.3f} (its ERI's {:.3f}), source's real smile {:.3f}".format(medians[1], medians[2], medians[4]))
+    details = np.array([r["details_step"] for r in rows if np.isfinite(r.get("details_step", np.nan))])
+    if len(details):
+        rng = np.random.default_rng(0)
+        low, high = np.percentile([np.median(rng.choice(details, len(details))) for _ in range(BOOTSTRAP)], [2.5, 97.5])
+        print(f"  per step, the details' own where the ERI is deeper than {DEEP}: {np.median(details):.3f} [{low:.3f}, {high:.3f}]", end="")
+        print(f" ({len(details)} clones)")
 
 
 def main() -> None:

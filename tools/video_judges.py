@@ -12,7 +12,8 @@ palest and the three darkest of the London Set by their cheeks' L*
   mouth interior, inside its final inner lips, lighter in L* than its cheeks), their
   yellowness, the b* of that brightest tenth minus the cheeks' b*, and their lightness (the
   same in L*); beside the same measures on the portrait person's own smiling photo, when
-  it shows teeth. The judge: yellowness within :data:`TEETH_YELLOW` of the own.
+  it shows teeth. The judge: yellowness within :data:`TEETH_YELLOW` of the own. (For diagnosis, how far real teeth
+  are from one another's on this measure: :func:`teeth_floor`.)
 - lips: the lip band's (between the outer and inner lips) L*, its fall from the portrait's
   neutral band, over the frames whose mouth is open, beside the driver's own fall from its
   neutral frame. The judge: at most the driver's plus :data:`LIP_DARKER`.
@@ -63,14 +64,41 @@ TEETH_FRAMES = 3
 STILL = 0.01
 
 
-def teeth(image: np.ndarray, landmarks: np.ndarray) -> tuple[float, float] | None:
-    """(yellowness, lightness) of the teeth over the cheeks, in b* and L*; None when no teeth are in sight."""
+def teeth_lab(image: np.ndarray, landmarks: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """The CIELAB of the teeth (the brightest tenth inside the inner lips) and of the cheeks; None when no teeth are in sight."""
     inside = lab(image[inner_mask(image.shape, landmarks)])
     if len(inside) < 10:
         return None
     top = inside[inside[:, 0] >= np.percentile(inside[:, 0], 100 * (1 - TEETH_TOP))].mean(0)
     cheeks = lab(image[regions(image.shape, landmarks)["cheeks"]]).mean(0)
-    return None if top[0] <= cheeks[0] else (float(top[2] - cheeks[2]), float(top[0] - cheeks[0]))
+    return None if top[0] <= cheeks[0] else (top, cheeks)
+
+
+def teeth(image: np.ndarray, landmarks: np.ndarray) -> tuple[float, float] | None:
+    """(yellowness, lightness) of the teeth over the cheeks, in b* and L*; None when no teeth are in sight."""
+    found = teeth_lab(image, landmarks)
+    return None if found is None else (float(found[0][2] - found[1][2]), float(found[0][0] - found[1][0]))
+
+
+def teeth_floor(data: Path, size: int, portraits: list[str]) -> None:
+    """How far real teeth are from one another's, on the teeth judge's measure: the b* of the teeth of every London smile
+    that shows them (scaled as the portraits are), and how far the others' mean is from each person's own. A paste of
+    the average real teeth, in the portrait's own light, would miss each person's own by that much."""
+    from exprclone.drive.framing import resize_portrait
+    from exprclone.io.images import load_image
+    from exprclone.landmarks import lips
+    from exprclone.landmarks.backends import default_detector
+    from exprclone.landmarks.layout import DLIB68
+
+    detect, own = default_detector().detect, {}
+    for path in sorted((data / "london" / "smiling_front").glob("*_08.jpg")):
+        smile = resize_portrait(load_image(path), None, size)[0]
+        if (found := teeth_lab(smile, lips.uncross(detect(smile), DLIB68))) is not None:
+            own[path.name[:3]] = float(found[0][2])
+    away = {face: np.mean([b for other, b in own.items() if other != face]) - b for face, b in own.items()}
+    print(f"real teeth's b* over {len(own)} London smiles that show them: sd {np.std(list(own.values()), ddof=1):.1f};", end="")
+    print(f" the others' mean over {TEETH_YELLOW:g} from {sum(abs(d) > TEETH_YELLOW for d in away.values())} people's own;", end="")
+    print(" for the portraits judged: " + ", ".join(f"{face} {away[face]:+.1f}" for face in portraits if face in away))
 
 
 def lip_band(image: np.ndarray, landmarks: np.ndarray) -> float:
@@ -228,6 +256,7 @@ def main() -> None:
     for name in ("correlation", "rendered_correlation"):
         values = [r[name] for r in rows]
         print(f"opening {name.replace('_', ' ')}: median {np.median(values):.2f}, least {min(values):.2f}")
+    teeth_floor(data, args.size, portraits)
     steadier = sum(r["rendered_jitter"] <= r["tracked_jitter"] for r in rows)
     ratio = np.median([r["jitter"] / r["rendered_jitter"] for r in rows])
     print(f"rendered jitter at most the tracked driver's on {steadier} of {len(rows)} cases; found over rendered: median {ratio:.1f}x")
