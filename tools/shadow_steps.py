@@ -11,7 +11,8 @@ photo warped onto the face, :func:`exprclone.evaluation.scores.shadows`), each f
   darkening its ERI made;
 - *the details' own* (for a method with ``+eri``): where its ERI is deeper than :data:`DEEP` on the counted skin, the
   per step of the clone against the same clone without details (its geometry's method: ``global`` for ``global+eri``),
-  what the ERI and its tint alone do to the skin, printed with a 95% bootstrap interval of the median.
+  what the ERI and its tint alone do to the skin, printed with the 95% bootstrap interval of its median
+  (:func:`exprclone.evaluation.statistics.median_interval`, as ``exprclone evaluate`` gives its medians).
 
 Printed for the clones of ``--pairs`` pairs (a person's smile onto another's neutral photo, drawn as ``exprclone
 evaluate`` draws them) and for every person cloned onto themselves, each beside the source's real smile; then the real
@@ -34,7 +35,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
-from exprclone.evaluation import runner, scores  # noqa: E402
+from exprclone.evaluation import runner, scores, statistics  # noqa: E402
 from exprclone.evaluation.london import Dataset  # noqa: E402
 from exprclone.imaging import piecewise  # noqa: E402
 from exprclone.io.progress import Quiet  # noqa: E402
@@ -48,8 +49,6 @@ SHADED, UNSHADED = 0.95, 0.98
 DEEP = 0.92
 #: fewest counted pixels a median is taken over.
 MIN_PIXELS = 30
-#: resamples of the bootstrap interval.
-BOOTSTRAP = 2000
 
 
 def steps(found: scores.Shadows, eri: np.ndarray | None = None) -> tuple[float, float, float]:
@@ -81,8 +80,8 @@ def one(task: tuple[Dataset, dict[str, np.ndarray], str, str, str]) -> dict[str,
     real = scores.shadows(runner.photo(smile), marks[smile], runner.photo(neutral), marks[neutral], DLIB68)
     row = dict(zip(("step", "depth", "eri_depth", "real_step", "real_depth"), (*clone, *steps(real)[:2])))
     if geometry is not None:  # the clone against itself without details, on the same landmarks
-        own = scores.shadows(result.image, found, results[geometry].image, found, DLIB68)
-        row["details_step"] = steps(own._replace(darker=clone_found.darker & (result.eri < DEEP)))[0]
+        details = scores.shadows(result.image, found, results[geometry].image, found, DLIB68)
+        row["details_step"] = steps(details._replace(darker=clone_found.darker & (result.eri < DEEP)))[0]
     if source == target and real.darker.sum() >= MIN_PIXELS:
         own = carried(result.eri, result.landmarks["final"][: len(marks[smile])], marks[smile], runner.photo(smile).shape)
         for name, where in (("shaded", own < SHADED), ("unshaded", own >= UNSHADED)):
@@ -106,9 +105,8 @@ def summary(rows: list[dict[str, float]], title: str) -> None:
     print("  depth: clone {:.3f} (its ERI's {:.3f}), source's real smile {:.3f}".format(medians[1], medians[2], medians[4]))
     details = np.array([r["details_step"] for r in rows if np.isfinite(r.get("details_step", np.nan))])
     if len(details):
-        rng = np.random.default_rng(0)
-        low, high = np.percentile([np.median(rng.choice(details, len(details))) for _ in range(BOOTSTRAP)], [2.5, 97.5])
-        print(f"  per step, the details' own where the ERI is deeper than {DEEP}: {np.median(details):.3f} [{low:.3f}, {high:.3f}]", end="")
+        median, low, high = statistics.median_interval(details)
+        print(f"  per step, the details' own where the ERI is deeper than {DEEP}: {median:.3f} [{low:.3f}, {high:.3f}]", end="")
         print(f" ({len(details)} clones)")
 
 

@@ -74,16 +74,19 @@ def teeth_lab(image: np.ndarray, landmarks: np.ndarray) -> tuple[np.ndarray, np.
     return None if top[0] <= cheeks[0] else (top, cheeks)
 
 
-def teeth(image: np.ndarray, landmarks: np.ndarray) -> tuple[float, float] | None:
-    """(yellowness, lightness) of the teeth over the cheeks, in b* and L*; None when no teeth are in sight."""
-    found = teeth_lab(image, landmarks)
+def over_cheeks(found: tuple[np.ndarray, np.ndarray] | None) -> tuple[float, float] | None:
+    """(yellowness, lightness) of teeth over the cheeks, in b* and L*, from :func:`teeth_lab`'s (None: no teeth)."""
     return None if found is None else (float(found[0][2] - found[1][2]), float(found[0][0] - found[1][0]))
 
 
-def teeth_floor(data: Path, size: int, portraits: list[str]) -> None:
-    """How far real teeth are from one another's, on the teeth judge's measure: the b* of the teeth of every London smile
-    that shows them (scaled as the portraits are), and how far the others' mean is from each person's own. A paste of
-    the average real teeth, in the portrait's own light, would miss each person's own by that much."""
+def teeth(image: np.ndarray, landmarks: np.ndarray) -> tuple[float, float] | None:
+    """(yellowness, lightness) of the teeth over the cheeks, in b* and L*; None when no teeth are in sight."""
+    return over_cheeks(teeth_lab(image, landmarks))
+
+
+def own_teeth(data: Path, size: int) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Each London person's own teeth and cheeks (:func:`teeth_lab`) in their real smile, scaled as the portraits are;
+    the people whose smile shows no teeth are left out."""
     from exprclone.drive.framing import resize_portrait
     from exprclone.io.images import load_image
     from exprclone.landmarks import lips
@@ -94,7 +97,15 @@ def teeth_floor(data: Path, size: int, portraits: list[str]) -> None:
     for path in sorted((data / "london" / "smiling_front").glob("*_08.jpg")):
         smile = resize_portrait(load_image(path), None, size)[0]
         if (found := teeth_lab(smile, lips.uncross(detect(smile), DLIB68))) is not None:
-            own[path.name[:3]] = float(found[0][2])
+            own[path.name[:3]] = found
+    return own
+
+
+def teeth_floor(teeth_of: dict[str, tuple[np.ndarray, np.ndarray]], portraits: list[str]) -> None:
+    """How far real teeth are from one another's, on the teeth judge's measure: the b* of the teeth of every London smile
+    that shows them (:func:`own_teeth`), and how far the others' mean is from each person's own. A paste of the average
+    real teeth, in the portrait's own light, would miss each person's own by that much."""
+    own = {face: float(found[0][2]) for face, found in teeth_of.items()}
     away = {face: np.mean([b for other, b in own.items() if other != face]) - b for face, b in own.items()}
     print(f"real teeth's b* over {len(own)} London smiles that show them: sd {np.std(list(own.values()), ddof=1):.1f};", end="")
     print(f" the others' mean over {TEETH_YELLOW:g} from {sum(abs(d) > TEETH_YELLOW for d in away.values())} people's own;", end="")
@@ -124,24 +135,20 @@ def afresh(images: list[np.ndarray], known: list[np.ndarray] | np.ndarray) -> np
     return np.array(found)
 
 
-def judge(case: tuple[Path, str, Path, int, str]) -> dict:
-    """One clip driving one portrait: every measure of the module's notes."""
+def judge(case: tuple[Path, str, Path, int, str, tuple[float, float] | None]) -> dict:
+    """One clip driving one portrait (with its person's own teeth, :func:`own_teeth`): every measure of the module's notes."""
     from exprclone import drive
     from exprclone.drive import tracking
     from exprclone.drive.framing import resize_portrait
     from exprclone.io.images import load_image
     from exprclone.io.video import probe, read_frames
-    from exprclone.landmarks import lips
     from exprclone.landmarks.backends import default_detector
     from exprclone.landmarks.layout import DLIB68
     from exprclone.mouth import measure, tone
 
-    data, face, clip, size, method = case
+    data, face, clip, size, method, own = case
     portrait = resize_portrait(load_image(data / "london/neutral_front" / f"{face}_03.jpg"), None, size)[0]
-    detect = default_detector().detect
-    portrait_points = detect(portrait)
-    smile = resize_portrait(load_image(data / "london/smiling_front" / f"{face}_08.jpg"), None, size)[0]
-    own = teeth(smile, lips.uncross(detect(smile), DLIB68))
+    portrait_points = default_detector().detect(portrait)
     recording = drive.prepare(
         portrait, portrait_points, lambda: read_frames(clip), float(probe(clip).fps), neutral_frame="closed", method=method
     )
@@ -156,17 +163,18 @@ def judge(case: tuple[Path, str, Path, int, str]) -> dict:
         final, points = f.result.landmarks["final"], driver_points[f.index]
         outputs.append(f.image)
         finals.append(final)
-        opened = measure.opening(final, DLIB68) >= measure.OPENING[0]
         if (t := teeth(f.image, final)) is not None:
             seen.append(t)
-        if opened:
-            falls.append(portrait_band - lip_band(f.image, final))
-            driver_falls.append(driver_band - lip_band(f.driving, points))
-        inner.append(lab(f.image[inner_mask(f.image.shape, final)])[:, 1:].mean(0) if opened else None)
+        if measure.opening(final, DLIB68) < measure.OPENING[0]:  # a closed mouth: no lips' fall, a gap in the flicker
+            inner.append(None), driver_inner.append(None), relit.append(None)
+            continue
+        falls.append(portrait_band - lip_band(f.image, final))
+        driver_falls.append(driver_band - lip_band(f.driving, points))
+        inner.append(lab(f.image[inner_mask(f.image.shape, final)])[:, 1:].mean(0))
         driving = f.driving[inner_mask(f.driving.shape, points)]
-        driver_inner.append(lab(driving)[:, 1:].mean(0) if opened else None)
+        driver_inner.append(lab(driving)[:, 1:].mean(0))
         gain = tone.tone_gain(f.driving, points, reference, DLIB68)
-        relit.append(lab(np.clip(np.round(driving * gain), 0, 255).astype(np.uint8))[:, 1:].mean(0) if opened else None)
+        relit.append(lab(np.clip(np.round(driving * gain), 0, 255).astype(np.uint8))[:, 1:].mean(0))
     mouth = DLIB68.mouth_outer + DLIB68.mouth_inner
     found = afresh(outputs, finals)  # the output's and the driver's landmarks found on every frame
     driver_found = afresh(frames, driver_points)
@@ -228,7 +236,8 @@ def main() -> None:
     clips = [p for p in sorted((data / "grid").glob("*.mpg")) if not args.clips or p.stem in args.clips]
     if not clips or not portraits:
         raise SystemExit(f"video_judges: no GRID clips ({data / 'grid'}/*.mpg) or no London portraits ({data / 'london'}) to judge")
-    cases = [(data, face, clip, args.size, args.method) for face in portraits for clip in clips]
+    teeth_of = own_teeth(data, args.size)  # read once, for every case of a portrait and for the floor
+    cases = [(data, face, clip, args.size, args.method, over_cheeks(teeth_of.get(face))) for face in portraits for clip in clips]
     print(f"exprclone video judges: {args.method} at {args.size} px, portraits {' '.join(portraits)}, {len(clips)} GRID clips\n")
     print("clip | portrait | teeth frames | yellowness (own) | lightness (own) | lip fall (driver's) | ", end="")
     print("jitter (driver's) | rendered jitter (tracked) | flicker (driver's; in the portrait's light) | opening r (rendered)")
@@ -256,12 +265,13 @@ def main() -> None:
     for name in ("correlation", "rendered_correlation"):
         values = [r[name] for r in rows]
         print(f"opening {name.replace('_', ' ')}: median {np.median(values):.2f}, least {min(values):.2f}")
-    teeth_floor(data, args.size, portraits)
+    teeth_floor(teeth_of, portraits)
     steadier = sum(r["rendered_jitter"] <= r["tracked_jitter"] for r in rows)
     ratio = np.median([r["jitter"] / r["rendered_jitter"] for r in rows])
     print(f"rendered jitter at most the tracked driver's on {steadier} of {len(rows)} cases; found over rendered: median {ratio:.1f}x")
-    relit = sum(r["flicker"] <= r["relit_flicker"] for r in rows if np.isfinite(r["flicker"]))
-    print(f"flicker at most the driver's interior's in the portrait's light on {relit} of {len(rows)} cases")
+    judged = [r for r in rows if np.isfinite(r["flicker"])]
+    relit = sum(r["flicker"] <= r["relit_flicker"] for r in judged)
+    print(f"flicker at most the driver's interior's in the portrait's light on {relit} of {len(judged)} cases")
 
 
 if __name__ == "__main__":
