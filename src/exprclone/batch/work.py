@@ -10,6 +10,7 @@ A Dask worker keeps freed image buffers as a local process does (:func:`exprclon
 
 from __future__ import annotations
 
+import dataclasses
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -20,11 +21,12 @@ import numpy as np
 from ..cluster import keep_buffers
 from ..errors import ExprCloneError, naming
 from ..options import Options
+from ..pipeline import request as door
+from ..pipeline.request import Request
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .manifest import Row
 
 if TYPE_CHECKING:
-    from ..pipeline import role_check
     from ..pipeline.cloner import Cloner
     from ..pipeline.group import Found
 
@@ -77,8 +79,6 @@ def detect(paths: list[str], landmarker: str) -> list[tuple[tuple[Found, ...] | 
 def clone_rows(task: Task) -> list[Outcome]:
     """Clone the task's rows, writing each output; a row that fails says why and the others go on."""
     from ..io.images import load_image
-    from ..pipeline import role_check
-    from ..pipeline.cloner import Cloner
 
     keep_buffers()
     start, first = time.perf_counter(), task.rows[0]
@@ -88,18 +88,15 @@ def clone_rows(task: Task) -> list[Outcome]:
         with warnings.catch_warnings(), naming({SOURCE_NEUTRAL: first.source_neutral, TARGET_NEUTRAL: first.target_neutral}):
             warnings.simplefilter("ignore")
             neutral, target = load_image(first.source_neutral), load_image(first.target_neutral)
-            landmarks = task.landmarks[first.source_neutral], task.landmarks[first.target_neutral]
-            cloner = Cloner(neutral, landmarks[0], target, landmarks[1], task.options)
-            # the source's neutral and the target, for each row's role check
-            photos = (
-                role_check.Photo.of(neutral, landmarks[0], cloner.faces.layout),
-                role_check.Photo.of(target, landmarks[1], cloner.faces.layout),
-            )
+            given = (task.landmarks[first.source_neutral], None, task.landmarks[first.target_neutral])
+            # the rows' roles are checked (a manifest names its photos by hand): each photo looked at once, for every row
+            request = Request.of(neutral, None, target, landmarks=given, options=task.options, check_roles=True)
+            cloner = door.pair(request)
     except ExprCloneError as e:
         return [Outcome(row.number, "failed", str(e)) for row in task.rows]
     outcomes = []
     for row in task.rows:
-        outcomes.append(_clone_row(cloner, photos, row, task, start))
+        outcomes.append(_clone_row(cloner, request, row, task, start))
         start = time.perf_counter()
     return outcomes
 
@@ -126,11 +123,10 @@ def _clone_group_row(row: Row, task: Task, start: float) -> Outcome:
     return Outcome(row.number, "done", "", None, time.perf_counter() - start, result.warnings)
 
 
-def _clone_row(cloner: Cloner, photos: tuple[role_check.Photo, role_check.Photo], row: Row, task: Task, start: float) -> Outcome:
-    """One row on the prepared faces: its expression cloned by its method, the output written, its photos checked
-    (:func:`exprclone.pipeline.role_check.judge_roles`; ``photos`` are the source's neutral photo's and the target's)."""
+def _clone_row(cloner: Cloner, request: Request, row: Row, task: Task, start: float) -> Outcome:
+    """One row on the prepared faces (``request``'s, without an expression): its expression cloned by its method, the
+    output written, its photos' roles checked (:func:`exprclone.pipeline.request.judge_roles`)."""
     from ..io.images import load_image, save_image
-    from ..pipeline import role_check
     from ..pipeline.group import check_count
 
     try:
@@ -139,14 +135,13 @@ def _clone_row(cloner: Cloner, photos: tuple[role_check.Photo, role_check.Photo]
             own = cloner.changed(Options.from_text(dict(row.cells), task.options)) if row.cells else cloner
             check_count(own.options.faces, 1)
             method = own.options.method
-            expression = load_image(row.source_expression)
-            points = task.landmarks[row.source_expression]
-            photo = role_check.Photo.of(expression, points, cloner.faces.layout)
-            result = own.clone_methods(expression, points, crop=photo.crop)
-            save_image(row.output, result[method].image, inputs=row.photos)
-            said = tuple(role_check.judge_roles(photos[0], photo, cloner.faces.layout, photos[1]))
+            layout = own.options.landmarks_layout
+            expression = door.photo(load_image(row.source_expression), task.landmarks[row.source_expression], SOURCE_EXPRESSION, layout)
+            asked = dataclasses.replace(request, source_expression=expression, options=own.options)
+            result = door.prepare(asked, cloner=own).render()[method]
+            save_image(row.output, result.image, inputs=row.photos)
     except ExprCloneError as e:
         return Outcome(row.number, "failed", str(e), seconds=time.perf_counter() - start)
     except Exception as e:  # a bug, not the input's fault: the row fails, the job goes on
         return Outcome(row.number, "failed", f"internal error ({type(e).__name__}: {e})", seconds=time.perf_counter() - start)
-    return Outcome(row.number, "done", "", result[method].lambda_k, time.perf_counter() - start, said)
+    return Outcome(row.number, "done", "", result.lambda_k, time.perf_counter() - start, result.warnings)

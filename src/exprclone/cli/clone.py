@@ -10,7 +10,7 @@ from ..options import REGIONS, Options
 from .inputs import add_inputs, load_inputs, source_photos
 
 if TYPE_CHECKING:
-    from ..pipeline.cloner import CloneResult
+    from ..pipeline.result import CloneResult
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:

@@ -18,7 +18,7 @@ if TYPE_CHECKING:
 
     from ..expressions import Expression
     from ..geometry.eigenface import Eigenfaces
-    from ..pipeline.cloner import CloneResult
+    from ..pipeline.result import CloneResult
 
 T = TypeVar("T")
 

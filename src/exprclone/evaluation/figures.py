@@ -25,7 +25,7 @@ from ..geometry.db_metric import DBCurve
 from ..imaging import raster
 from ..methods import FIGURES, METHODS, TABLE
 from ..options import GIVEN, Options
-from ..pipeline.cloner import CloneResult
+from ..pipeline.result import CloneResult
 from ..roles import SOURCE_EXPRESSION, TARGET_NEUTRAL
 
 CELL = 320

@@ -10,7 +10,7 @@ from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL
 if TYPE_CHECKING:
     import numpy as np
 
-    from ..pipeline.cloner import CloneResult, FaceResult
+    from ..pipeline.result import CloneResult, FaceResult
 
 
 def json_number(value: float | str | None) -> float | str | None:
@@ -21,7 +21,7 @@ def json_number(value: float | str | None) -> float | str | None:
 
 
 def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]:
-    """The record of a :class:`~exprclone.pipeline.cloner.CloneResult`.
+    """The record of a :class:`~exprclone.pipeline.result.CloneResult`.
 
     Parameters
     ----------

@@ -27,8 +27,9 @@ from .jobs import JOB_ID, NoSuchJob
 from .limits import Busy
 
 if TYPE_CHECKING:
-    from ..pipeline.cloner import CloneResult, Prepared
+    from ..pipeline.cloner import Prepared
     from ..pipeline.group import Group
+    from ..pipeline.result import CloneResult
 
 #: the preview's longest side, pixels.
 PREVIEW = 512

@@ -22,7 +22,9 @@ from ..landmarks.backends import for_thread, name_of
 from ..landmarks.layout import DLIB68
 from ..mouth.measure import opening
 from ..options import Options
+from ..pipeline import request as door
 from ..pipeline.cloner import Cloner
+from ..pipeline.request import Photo, Request
 
 #: the neutral face is the frame whose mouth is most closed over this many seconds from the first face.
 NEUTRAL_SECONDS = 1.0
@@ -114,7 +116,8 @@ class Session:
 
     def _cloner(self, window: Window) -> Cloner:
         """The camera's neutral face (the window's frame) and the portrait, prepared with the session's options."""
-        return Cloner(window.frame, window.points, self.portrait, self.portrait_points, self._driving())
+        neutral, portrait = Photo(window.frame, "frame", window.points), Photo(self.portrait, "portrait", self.portrait_points)
+        return door.pair(Request(neutral, None, portrait, self._driving()))
 
     def close(self) -> None:
         """Release what the session holds: nothing here (a :class:`~exprclone.server.rendering.RemoteSession` gives its process back)."""
@@ -151,6 +154,6 @@ class Session:
             return driver
         cloner = driver.cloner
         if driving.expression_strength(cloner.faces.s_neu, points[None], cloner.faces.layout)[0] >= LAMBDA_STRENGTH:
-            self.chosen = driving.choose_lambda(cloner, [frame], [points])
+            self.chosen = cloner.choose_lambda([frame], [points])
             self.driver = driver = drive.Driver(cloner.changed(self._driving()))
         return driver
