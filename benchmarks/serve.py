@@ -206,12 +206,13 @@ def seen(address: str, files: list[dict]) -> None:
     remembers them): a source photo's face, every face of a target photo."""
     from distributed import Client
 
+    from exprclone.io.inputs import Source
     from exprclone.landmarks.backends import DEFAULT
     from exprclone.server import work
 
-    uploads = [work.Upload(field, content) for photos in files for field, (_, content) in photos.items()]
+    uploads = [Source(field, content) for photos in files for field, (_, content) in photos.items()]
     with Client(address, timeout=60) as client:
-        client.run(lambda: [(work.faces if u.field == "target_neutral" else work.landmarks)(u, None, DEFAULT) for u in uploads])
+        client.run(lambda: [(work.faces if u.name == "target_neutral" else work.landmarks)(u, None, DEFAULT) for u in uploads])
 
 
 def on_clusters(args: argparse.Namespace) -> None:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
 
 from ..methods import FIGURES
 from ..options import Options, names
@@ -31,7 +30,7 @@ def run(args: argparse.Namespace) -> None:
     check_output_path(args.output, paths)
     inputs = load_inputs(args)
     methods, options = figure_request(args.figure, inputs.options, args.global_warp is not None)
-    results = replace(inputs, options=options).clone(methods)
+    results = inputs.clone(methods, options)
     save_image(args.output, draw(args.figure, results, inputs.images), inputs=paths)
     results, _ = one_face(results, inputs.images)
     shown = f"{len(methods)} methods" if len(methods) > 2 else f"the elastic model on global warp {results['global'].options.global_stage}"

@@ -76,6 +76,10 @@ class Photo:
         """The same photo with its landmarks placed."""
         return dataclasses.replace(self, points=points, _seen={})
 
+    def looked(self, found: tuple[group.Found, ...]) -> Photo:
+        """The same photo with its faces found."""
+        return dataclasses.replace(self, found=found)
+
 
 @dataclass(frozen=True)
 class Request:
@@ -126,7 +130,7 @@ class Request:
         sn, tn = photo(source_neutral, given[0], ROLES[0], layout), photo(target_neutral, given[2], TARGET_NEUTRAL, layout)
         se = None if source_expression is None else photo(source_expression, given[1], SOURCE_EXPRESSION, layout)
         if target_faces is not None:
-            tn = dataclasses.replace(tn, found=tuple(target_faces))
+            tn = tn.looked(tuple(target_faces))
         vouched = all(p is None or p.points is not None for p in (sn, se, tn))
         return cls(sn, se, tn, asked, not vouched if check_roles is None else check_roles)
 
@@ -144,22 +148,28 @@ def photo(image: np.ndarray, points: np.ndarray | None, name: str, layout: Layou
     return Photo(image, name, points)
 
 
+def place(photo: Photo, options: Options, every: bool = False) -> Photo:
+    """The photo with its face's landmarks placed by the options' landmarker (its largest face), or with ``every`` face
+    found (a target photo: :func:`exprclone.pipeline.group.find`); as it is if they are known."""
+    detector, layout = resolve(options.landmarker), options.landmarks_layout
+    if every:
+        return (
+            photo
+            if photo.points is not None or photo.found is not None
+            else photo.looked(group.find(photo.image, detector, photo.name, layout))
+        )
+    return photo if photo.points is not None else photo.placed(detector.detect(photo.image, photo.name))
+
+
 def located(request: Request) -> tuple[Request, str | None]:
     """The request with every photo's landmarks placed by its options' landmarker (the target's every face, unless its
-    landmarks are given); and the landmarker's name, None when every landmark was given."""
+    landmarks are given: :func:`place`); and the landmarker's name, None when every landmark was given."""
     options = request.options
-    layout, detector = options.landmarks_layout, resolve(options.landmarker)
-    sources = [
-        p if p is None or p.points is not None else p.placed(detector.detect(p.image, p.name))
-        for p in (request.source_neutral, request.source_expression)
-    ]
-    target = request.target
-    if target.points is None and target.found is None:
-        target = dataclasses.replace(target, found=group.find(target.image, detector, target.name, layout))
+    sn, se = (None if p is None else place(p, options) for p in (request.source_neutral, request.source_expression))
+    target = place(request.target, options, every=True)
     if target.points is not None:
         group.check_count(options.faces, 1)
     placed = name_of(options.landmarker) if any(p.points is None for p in request.photos) else None
-    sn, se = sources
     assert sn is not None
     return dataclasses.replace(request, source_neutral=sn, source_expression=se, target=target), placed
 

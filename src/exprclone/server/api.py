@@ -15,6 +15,7 @@ from pydantic import BaseModel, WithJsonSchema
 from .. import __version__, expressions
 from .. import data as samples
 from ..errors import ExprCloneError, quoted
+from ..io.inputs import Source
 from ..io.record import json_number
 from ..io.video import Limits
 from ..methods import FIGURES
@@ -59,7 +60,7 @@ LandmarkerForm = Annotated[Asked, Depends(options_form(Options, ("landmarker",))
 RenderOptions = Annotated[Asked, Depends(options_form(Options, RENDER))]
 
 
-async def read_optional(upload: UploadFile | None, field: str, extensions: tuple[str, ...] = ()) -> work.Upload | None:
+async def read_optional(upload: UploadFile | None, field: str, extensions: tuple[str, ...] = ()) -> Source | None:
     """An upload's content, None when it was not sent (no part, or an empty one without a file name); for a landmark
     file, its kind from the extension the client gave it (nothing else of a client's file name is used)."""
     if upload is None:
@@ -72,10 +73,10 @@ async def read_optional(upload: UploadFile | None, field: str, extensions: tuple
     extension = Path(upload.filename or "").suffix.lower()
     if extensions and extension not in extensions:
         raise ExprCloneError(field, f"a landmark file must be {' or '.join(extensions)}, got {extension or 'no extension'!r}")
-    return work.Upload(field, content, extension)
+    return Source(field, content, extension)
 
 
-async def read_upload(upload: UploadFile | None, field: str) -> work.Upload:
+async def read_upload(upload: UploadFile | None, field: str) -> Source:
     """An upload that must be sent (:func:`read_optional`), or ExprCloneError: ``missing``."""
     found = await read_optional(upload, field)
     if found is None:
