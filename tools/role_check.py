@@ -46,7 +46,7 @@ ORDERS = {
 }
 
 
-def load(data: Path) -> tuple[list[str], dict[str, role_check.Photo]]:
+def load(data: Path) -> tuple[list[str], dict[str, role_check.Face]]:
     """Every person's neutral (``ID_n``) and smiling (``ID_s``) photo with its detected landmarks."""
     people = sorted(p.stem[:3] for p in (data / "neutral_front").glob("*_03.jpg"))
     if not people:
@@ -55,7 +55,7 @@ def load(data: Path) -> tuple[list[str], dict[str, role_check.Photo]]:
     for i in people:
         for kind, path in (("n", data / "neutral_front" / f"{i}_03.jpg"), ("s", data / "smiling_front" / f"{i}_08.jpg")):
             image = load_image(path)
-            photos[f"{i}_{kind}"] = role_check.Photo.of(image, default_detector().detect(image, str(path)), DLIB68)
+            photos[f"{i}_{kind}"] = role_check.Face.of(image, default_detector().detect(image, str(path)), DLIB68)
     return people, photos
 
 
@@ -70,7 +70,7 @@ def mean_face(shapes: list[np.ndarray]) -> np.ndarray:
     return mean
 
 
-def learn(people: list[str], photos: dict[str, role_check.Photo]) -> tuple[np.ndarray, np.ndarray]:
+def learn(people: list[str], photos: dict[str, role_check.Face]) -> tuple[np.ndarray, np.ndarray]:
     """The mean neutral face of ``people`` and the direction their smiles move the moving landmarks from it: ``w``
     minimising ``sum (1 - w d)^2 + RIDGE |w|^2`` over each person's motion ``d`` (smile minus neutral)."""
     role_check.NEUTRAL_FACE = mean_face([photos[f"{i}_n"].points for i in people])
@@ -80,7 +80,7 @@ def learn(people: list[str], photos: dict[str, role_check.Photo]) -> tuple[np.nd
     return role_check.NEUTRAL_FACE, direction
 
 
-def judged(people: list[str], photos: dict[str, role_check.Photo], others: int) -> dict[str, list[tuple[int, bool, bool]]]:
+def judged(people: list[str], photos: dict[str, role_check.Face], others: int) -> dict[str, list[tuple[int, bool, bool]]]:
     """For each kind of mistake, (the person's place, whether it was flagged, whether the warning named the right boxes)."""
     out: dict[str, list[tuple[int, bool, bool]]] = {kind: [] for kind in [*ORDERS, "two people"]}
     for k, i in enumerate(people):

@@ -85,7 +85,8 @@ def rows_of(args: argparse.Namespace) -> tuple[list[Row], dict[str, np.ndarray]]
 def run(args: argparse.Namespace) -> None:
     from pathlib import Path
 
-    from ..batch import job, work
+    from ..batch import job
+    from ..batch.rows import Outcome
     from ..io.progress import Bar
 
     backend = backend_of(args)
@@ -94,7 +95,7 @@ def run(args: argparse.Namespace) -> None:
     report = args.report or str(folder / "report.csv")
     options = options_of(args, Options, JOB)
     cache = None if args.cache is None else Path(args.cache)
-    outcomes: dict[int, work.Outcome] = {}
+    outcomes: dict[int, Outcome] = {}
     try:
         bar = lambda n, what: Bar(sys.stderr, n, what)  # noqa: E731
         job.run(rows, options, backend, outcomes, overwrite=args.overwrite, cache=cache, progress=bar, known=known)

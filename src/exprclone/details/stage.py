@@ -54,7 +54,7 @@ class RatioFaces:
     iod: float
 
     @classmethod
-    def prepare(cls, mesh: piecewise.Mesh, source: np.ndarray, source_ctrl: np.ndarray, target: np.ndarray, layout: Layout) -> RatioFaces:
+    def of(cls, mesh: piecewise.Mesh, source: np.ndarray, source_ctrl: np.ndarray, target: np.ndarray, layout: Layout) -> RatioFaces:
         """Both neutral photos shrunk (the source's with the control points ``source_ctrl`` of ``mesh`` on it) and measured
         over their faces."""
         measured = []

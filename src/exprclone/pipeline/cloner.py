@@ -29,7 +29,7 @@ from . import render, stages
 from .checks import check_for_target
 from .faces import Faces
 from .result import CloneResult
-from .stages import Expression, Shape
+from .stages import Shape, SourceExpression
 
 
 class Cloner:
@@ -128,7 +128,7 @@ class Cloner:
             ``method`` alone by default.
         crop : ndarray of shape (S, S), optional
             Its eye-aligned crop, when the caller has made it (the role check's,
-            :class:`exprclone.pipeline.role_check.Photo`); made here only if the DB metric needs it.
+            :class:`exprclone.pipeline.role_check.Face`); made here only if the DB metric needs it.
 
         Returns
         -------
@@ -188,7 +188,7 @@ class Prepared:
         How much of the expression those options transfer, and where.
     methods : tuple of Method
         The methods it was prepared for.
-    expression : Expression
+    expression : SourceExpression
         The source expression, ready for the shape stages.
     shapes : dict of str to Shape
         The shape stages its methods need (GI, LI and, for the elastic model, lambda_k and the DB curve).
@@ -204,7 +204,7 @@ class Prepared:
     options: Options
     transfer: Transfer
     methods: tuple[Method, ...]
-    expression: Expression
+    expression: SourceExpression
     shapes: dict[str, Shape]
     photo: ExpressionPhoto | None
     landmarker: str | None = None

@@ -77,7 +77,7 @@ class Faces:
     @functools.cached_property
     def ratio_faces(self) -> RatioFaces:
         """The source's neutral photo and the target's prepared for the ERI (:class:`~exprclone.details.stage.RatioFaces`)."""
-        return RatioFaces.prepare(self.mesh, self.source_image, self.source_neutral_ctrl, self.target_image, self.layout)
+        return RatioFaces.of(self.mesh, self.source_image, self.source_neutral_ctrl, self.target_image, self.layout)
 
     @functools.cached_property
     def mouth_reference(self) -> tone.Reference:

@@ -28,7 +28,7 @@ from ..options import Options
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .faces import Faces
 from .result import CloneResult
-from .stages import Expression, Shape
+from .stages import Shape, SourceExpression
 
 
 @dataclass(frozen=True)
@@ -71,7 +71,7 @@ def ratio(faces: Faces, target: Rendered, photo: ExpressionPhoto, transfer: Tran
 def details(
     faces: Faces,
     method: Method,
-    expression: Expression,
+    expression: SourceExpression,
     rendered: Rendered,
     ratio: Ratio,
     mouth: bool,
@@ -110,7 +110,7 @@ def details(
 def result(
     faces: Faces,
     method: Method,
-    expression: Expression,
+    expression: SourceExpression,
     shapes: Mapping[str, Shape],
     rendered: Rendered,
     ratio: Ratio | None,
@@ -141,7 +141,7 @@ def result(
 def render(
     faces: Faces,
     methods: tuple[Method, ...],
-    expression: Expression,
+    expression: SourceExpression,
     shapes: Mapping[str, Shape],
     photo: ExpressionPhoto | None,
     options: Options,

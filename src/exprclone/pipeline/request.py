@@ -63,13 +63,13 @@ class Photo:
     name: str
     points: np.ndarray | None = field(default=None, repr=False)
     found: tuple[group.Found, ...] | None = field(default=None, repr=False)
-    _seen: dict[int, role_check.Photo] = field(default_factory=dict, repr=False)
+    _seen: dict[int, role_check.Face] = field(default_factory=dict, repr=False)
 
-    def seen(self, layout: Layout) -> role_check.Photo:
+    def seen(self, layout: Layout) -> role_check.Face:
         """What the role check takes of it (its crop, and its descriptor on first use), made once and kept with it."""
         if id(layout) not in self._seen:
             assert self.points is not None, "placed first (located)"
-            self._seen[id(layout)] = role_check.Photo.of(self.image, self.points, layout)
+            self._seen[id(layout)] = role_check.Face.of(self.image, self.points, layout)
         return self._seen[id(layout)]
 
     def placed(self, points: np.ndarray) -> Photo:

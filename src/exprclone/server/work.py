@@ -21,26 +21,28 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from fractions import Fraction
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from ..drive.framing import resize_portrait
+from .. import drive
+from ..drive import Recording
+from ..drive.framing import resize_portrait, side_by_side
 from ..errors import naming
 from ..evaluation.figures import draw, figure_request
-from ..io.images import encode_image
+from ..geometry.eigenface import default_eigenfaces
+from ..io import video as video_io
+from ..io.images import atomic_write, encode_image
 from ..io.inputs import Seen, Source, gather, placed
 from ..io.record import json_number, result_record
-from ..io.video import Limits
+from ..io.video import Limits, probe, read_frames
+from ..landmarks.backends import default_detector
 from ..options import Driving, Framing, Options
 from ..pipeline import request as door
 from ..pipeline.cloner import Prepared
 from ..pipeline.group import Group
 from ..pipeline.request import Request
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
-
-if TYPE_CHECKING:
-    from ..drive import Recording
 
 #: frames between two updates of a video job's progress file.
 PROGRESS_EVERY = 5
@@ -102,17 +104,12 @@ class ProgressFile:
     path: str
 
     def __call__(self, done: int, total: int) -> None:
-        from ..io.images import atomic_write
-
         report = json.dumps({"done": done, "total": total}).encode()
         atomic_write(self.path, lambda out: out.write(report))
 
 
 def load_models() -> None:
     """A worker's initializer: load the default landmarker and the eigenface basis now, not on its first request."""
-    from ..geometry.eigenface import default_eigenfaces
-    from ..landmarks.backends import default_detector
-
     default_detector()._load()
     default_eigenfaces()
     warnings.simplefilter("ignore")  # an odd photo's conversion is not the API's business
@@ -209,8 +206,6 @@ def compare(request: CloneRequest, extension: str = ".png") -> bytes:
 def probe_video(path: str, limits: Limits) -> Fraction:
     """A driving video checked before its job starts, in a worker (inside the server's bounds on work): a video, its
     frames within ``limits`` as its headers give them (:func:`exprclone.io.video.probe`); its frame rate."""
-    from ..io.video import probe
-
     with naming({path: "driving_video"}):
         return probe(path, limits).fps
 
@@ -223,10 +218,6 @@ def video(request: VideoRequest, clip: Clip, report: Report) -> dict[str, Any]:
     dict
         ``frames`` written, the ``lambda_k`` used, the ``neutral_frame`` and the ``frames_without_face``.
     """
-    from .. import drive
-    from ..drive.framing import resize_portrait
-    from ..io import video as video_io
-
     with naming({clip.video: "driving_video", clip.output: "result"}):
         portrait, _ = resize_portrait(request.portrait.image(request.limits.max_pixels), None, request.framing.size)
         recording = drive.prepare(
@@ -244,15 +235,11 @@ def video(request: VideoRequest, clip: Clip, report: Report) -> dict[str, Any]:
 
 def opened(request: VideoRequest, clip: Clip) -> Iterator[np.ndarray]:
     """A new pass over a job's driving video, within its limits."""
-    from ..io.video import read_frames
-
     return read_frames(clip.video, request.limits)
 
 
 def _reporting(recording: Recording, frames: Iterator[np.ndarray], request: VideoRequest, report: Report) -> Iterator[np.ndarray]:
     """The rendered frames, the progress reported every :data:`PROGRESS_EVERY` of them."""
-    from ..drive.framing import side_by_side
-
     total = len(recording.points)
     for done, f in enumerate(recording.frames(frames), 1):
         if done % PROGRESS_EVERY == 0 or done == total:
