@@ -36,10 +36,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
-import datadir  # noqa: E402
-
 from exprclone import METHODS, clone, clone_methods
+from exprclone.data import sets as datasets
 from exprclone.details import muscle
 from exprclone.geometry import db_metric, eigenface, elastic, global_warp, local_warp
 from exprclone.geometry.eigenface import default_eigenfaces
@@ -223,7 +221,7 @@ def show(title: str, rows: dict[str, float], ratio_to: str | None = None) -> Non
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--repeat", type=int, default=7)
     parser.add_argument("--quick", action="store_true", help="skip the size sweep and the start-up timing")
     args = parser.parse_args()

@@ -17,19 +17,16 @@ them (:data:`~exprclone.pipeline.role_check.SMILE`).
 
 import argparse
 import json
-import sys
 from pathlib import Path
 
-import datadir
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
-
-from exprclone.io.images import load_image  # noqa: E402
-from exprclone.landmarks import align  # noqa: E402
-from exprclone.landmarks.backends import default_detector  # noqa: E402
-from exprclone.landmarks.layout import DLIB68  # noqa: E402
-from exprclone.pipeline import role_check  # noqa: E402
+from exprclone.data import sets as datasets
+from exprclone.io.images import load_image
+from exprclone.landmarks import align
+from exprclone.landmarks.backends import default_detector
+from exprclone.landmarks.layout import DLIB68
+from exprclone.pipeline import role_check
 
 TEMPLATE = Path(__file__).resolve().parents[1] / "src" / "exprclone" / "data" / "neutral_face.json"
 #: the ridge regression's weight on the smile direction's norm (the even half's leave-one-out errors are fewest at it).
@@ -98,7 +95,7 @@ def judged(people: list[str], photos: dict[str, role_check.Face], others: int) -
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    datadir.add_argument(parser, "london", holds="the London Set folder")
+    datasets.add_argument(parser, "london", holds="the London Set folder")
     parser.add_argument("--others", type=int, default=5, help="other people's smiles per person (default: 5)")
     parser.add_argument("--write-template", action="store_true", help="write the mean neutral face and the smile's direction first")
     args = parser.parse_args()
