@@ -157,12 +157,11 @@ class Driver:
     Frames from anywhere (here a photo of the source smiling), with their landmarks:
 
     >>> from exprclone import data
-    >>> from exprclone.pipeline.cloner import Cloner
     >>> from exprclone.landmarks.backends import default_detector
-    >>> detect = default_detector().detect
+    >>> from exprclone.pipeline.request import Request, pair
     >>> source, portrait, smile = data.photo("126"), data.photo("003"), data.photo("126", "smile")
-    >>> driver = Driver(Cloner(source, detect(source), portrait, detect(portrait), lambda_k=0))
-    >>> out = driver.render(smile, detect(smile))
+    >>> driver = Driver(pair(Request.of(source, None, portrait, lambda_k=0)))
+    >>> out = driver.render(smile, default_detector().detect(smile))
     >>> out.image.shape, out.result.method
     ((1350, 1350, 3), 'e+md')
     """

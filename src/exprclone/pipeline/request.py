@@ -185,10 +185,19 @@ def judge_roles(request: Request) -> tuple[str, ...]:
 
 
 def pair(request: Request) -> Cloner:
-    """The source's neutral face and the target's prepared with the request's options: the one place a
-    :class:`~exprclone.pipeline.cloner.Cloner` is made. Every landmark must be placed (:func:`located`)."""
-    sn, tn = request.source_neutral, request.target
-    assert sn.points is not None and tn.points is not None, "placed first (located)"
+    """The source's neutral face and the target's prepared with the request's options, for many expressions on them
+    (a performance's frames, a batch's rows): the one place a :class:`~exprclone.pipeline.cloner.Cloner` is made. The
+    landmarks not known are placed (:func:`place`; the target photo's largest face).
+
+    Examples
+    --------
+    >>> from exprclone import data
+    >>> cloner = pair(Request.of(data.photo("126"), None, data.photo("003"), strength=0.5))
+    >>> cloner.options.strength, cloner.faces.t_neu.shape
+    (0.5, (68, 2))
+    """
+    sn, tn = (place(p, request.options) for p in (request.source_neutral, request.target))
+    assert sn.points is not None and tn.points is not None
     return Cloner(sn.image, sn.points, tn.image, tn.points, request.options)
 
 
