@@ -171,7 +171,25 @@ def ratio_image(
     small = raster.enlarge(made, size, step)
     out = np.ones(shape[:2], np.float32)
     out[box] = small[..., eri.RATIO]
-    return Ratio(out, np.ascontiguousarray(small[..., eri.TINT]), box)
+    rows, cols = changed(made, step, size)
+    box = (slice(box[0].start + rows.start, box[0].start + rows.stop), slice(box[1].start + cols.start, box[1].start + cols.stop))
+    tint = small[rows, cols, eri.TINT].view(np.complex64).copy().view(np.float32)  # as pairs: a tenth of the time
+    return Ratio(out, tint, box)
+
+
+def changed(made: np.ndarray, step: int, size: tuple[int, int]) -> tuple[slice, slice]:
+    """The rows and columns of the face box (``size``) where the ERI made on its grid (``made``, enlarged by ``step``) may
+    change a pixel: the box of its blocks whose ratio is not 1 or whose tint is not 0, grown by one block (the enlargement
+    blends each pixel's block with its neighbours; a blend of neutral blocks is neutral), empty where none is."""
+    live = (made[..., eri.RATIO] != 1) | (made[..., eri.TINT] != 0).any(-1)
+    spans = []
+    for axis, blocks in ((1, live.any(1)), (0, live.any(0))):
+        found = np.flatnonzero(blocks)
+        if not len(found):
+            return slice(0, 0), slice(0, 0)
+        end = size[1 - axis] if found[-1] + 2 >= len(blocks) else (found[-1] + 2) * step
+        spans.append(slice(max(found[0] - 1, 0) * step, end))
+    return spans[0], spans[1]
 
 
 @dataclass(frozen=True)
