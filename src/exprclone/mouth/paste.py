@@ -32,7 +32,7 @@ from ..landmarks import align
 from ..landmarks.layout import Layout
 from . import teeth
 from .camera import blur_sigma, noise_sigma
-from .measure import INTERIOR, OPENING, fade_in, interior, mouth_width, opening
+from .measure import INTERIOR, OPENING, fade_in, interior_in_box, mouth_width, opening
 from .tone import Reference, below_white, face_box, source_light, tone_gain
 
 #: feather of the blend, in mouth widths.
@@ -137,8 +137,9 @@ def fill_interior(
     if weight == 0:
         return image, None
     reference = measure()
-    gain = tone_gain(source, source_landmarks, reference, layout)
-    parts = interior(source, source_landmarks, layout, gain)
+    light = source_light(source, source_landmarks, reference, layout)
+    gain = tone_gain(source, source_landmarks, reference, layout, light=light)
+    mouth_box, *parts = interior_in_box(source, source_landmarks, layout, gain)
     shown = sum(int(part.sum()) for part in parts)
     weight *= fade_in(shown / mouth_width(source_landmarks, layout) ** 2, INTERIOR)
     if weight == 0:
@@ -155,8 +156,9 @@ def fill_interior(
     polygon = raster.fill_polygon(np.zeros(patch.shape[:2], np.float32), local[len(layout.mouth_outer) : len(mouth)], 1.0)
 
     gain = below_white(gain, patch[polygon > 0])
-    seen = reference.source_interior or teeth.Interior.read((source[parts[0]], source[parts[1]]), mouth_width(source_landmarks, layout))
-    patch = teeth.recolour(patch, np.log(gain), seen, reference.light, source_light(source, source_landmarks, reference, layout), width)
+    pixels = source[mouth_box]
+    seen = reference.source_interior or teeth.Interior.read((pixels[parts[0]], pixels[parts[1]]), mouth_width(source_landmarks, layout))
+    patch = teeth.recolour(patch, np.log(gain), seen, reference.light, light, width)
     scale = align.interocular(final, layout) / align.interocular(source_landmarks, layout)
     patch = match_grain(patch, source, source_landmarks, reference, scale, gain)
 
