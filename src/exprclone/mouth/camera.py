@@ -58,7 +58,7 @@ def blur_sigma(image: np.ndarray) -> float:
     edges = g >= max(order.percentile(g, 100 * (1 - EDGE_SHARE)), 1e-3)
     ratio = g[edges] / np.maximum(gradient(cv2.GaussianBlur(luma, (0, 0), REBLUR))[edges], 1e-6)
     ratio = ratio[ratio > 1.0 + 1e-4]
-    return float(np.median(REBLUR / np.sqrt(ratio**2 - 1))) if len(ratio) else 0.0
+    return float(order.median(REBLUR / np.sqrt(ratio**2 - 1))) if len(ratio) else 0.0
 
 
 def noise_sigma(image: np.ndarray) -> np.ndarray:

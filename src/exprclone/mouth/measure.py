@@ -11,7 +11,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..imaging import raster
+from ..imaging import order, raster
 from ..landmarks import align
 from ..landmarks.layout import Layout
 
@@ -94,8 +94,8 @@ def interior_in_box(
         return box, np.zeros_like(inner), np.zeros_like(inner)
     saturation = cv2.cvtColor(crop, cv2.COLOR_RGB2HSV)[..., 1].astype(np.float32)
     luma = raster.luma(crop.astype(np.float32))
-    lip_luma = np.median(luma[lip])
-    teeth = inner & (saturation < TOOTH_SATURATION * np.median(saturation[lip])) & (luma > lip_luma)
+    lip_luma = order.median(luma[lip])
+    teeth = inner & (saturation < TOOTH_SATURATION * order.median(saturation[lip])) & (luma > lip_luma)
     return box, teeth, inner & (luma < CAVITY * lip_luma)
 
 

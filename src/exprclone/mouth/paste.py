@@ -106,6 +106,8 @@ def fill_interior(
     measure: Callable[[], Reference],
     layout: Layout,
     amount: float = 1.0,
+    *,
+    in_place: bool = False,
 ) -> tuple[np.ndarray, np.ndarray | None]:
     """Paste the source's mouth interior inside the target's final inner lips.
 
@@ -124,6 +126,8 @@ def fill_interior(
     amount : float
         Share of the source's mouth motion transferred, at most 1 (expression strength,
         :attr:`exprclone.geometry.weights.Transfer.paste`): the paste's weight is scaled by it.
+    in_place : bool
+        Paste into ``image`` itself (a caller's own copy), not into a copy of it.
 
     Returns
     -------
@@ -168,7 +172,7 @@ def fill_interior(
     k = max(1, int(round(sigma)))
     mask = cv2.GaussianBlur(raster.erode(polygon, k), (0, 0), sigma) * polygon * weight
 
-    out = image.copy()
+    out = image if in_place else image.copy()
     region = out[box].astype(np.float32)
     out[box] = np.clip(region + mask[..., None] * (patch - region) + 0.5, 0, 255).astype(np.uint8)
     full = np.zeros(image.shape[:2], np.float32)

@@ -368,7 +368,7 @@ class Cloner:
         )
         if mouth:  # the photos are measured for the paste's match only when there is a paste
             image, details["mouth_mask"] = paste.fill_interior(
-                image, final, expression.image, expression.points, lambda: faces.mouth_reference, layout, transfer.paste
+                image, final, expression.image, expression.points, lambda: faces.mouth_reference, layout, transfer.paste, in_place=True
             )
         return image, details
 
