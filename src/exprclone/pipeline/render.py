@@ -102,7 +102,7 @@ def details(
     )
     if mouth:  # the photos are measured for the paste's match only when there is a paste
         image, found["mouth_mask"] = paste.fill_interior(
-            image, final, expression.image, expression.points, lambda: faces.mouth_reference, layout, transfer.paste
+            image, final, expression.image, expression.points, lambda: faces.mouth_reference, layout, transfer.paste, in_place=True
         )
     return image, found
 
