@@ -3,7 +3,8 @@ import numpy as np
 from exprclone.details import eri, muscle, stage
 from exprclone.landmarks import align
 from exprclone.landmarks.layout import DLIB68
-from exprclone.pipeline.cloner import Cloner
+from exprclone.pipeline import render
+from exprclone.pipeline.request import Request, pair
 
 
 def test_the_eri_changes_no_pixel_outside_its_box_and_its_box_is_tight(photo):
@@ -11,10 +12,10 @@ def test_the_eri_changes_no_pixel_outside_its_box_and_its_box_is_tight(photo):
     is 1, and the details applied over the whole photo (the tint 0 outside the box) give what they give applied in the box
     alone; it is the part of the face box where the expression's shading lies, not the whole face box."""
     (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("126"), photo("126", "smile"), photo("003")
-    cloner = Cloner(sn, sn_lm, tn, tn_lm)
+    cloner = pair(Request.of(sn, None, tn, landmarks=(sn_lm, None, tn_lm)))
     prepared = cloner.prepare(se, se_lm, ("e+md",))
-    fi = cloner.fi(prepared.shapes["elastic"].points, cloner.transfer)
-    ratio = cloner.ratio(fi, prepared.photo, cloner.transfer)
+    fi = render.fi(cloner.faces, prepared.shapes["elastic"].points, cloner.transfer, "mesh")
+    ratio = render.ratio(cloner.faces, fi, prepared.photo, cloner.transfer, "mesh")
     box = ratio.box
     outside = np.ones(tn.shape[:2], bool)
     outside[box] = False
