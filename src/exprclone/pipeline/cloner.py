@@ -13,6 +13,7 @@ A Cloner is made at the door (:mod:`exprclone.pipeline.request`), from the photo
 
 from __future__ import annotations
 
+import concurrent.futures
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -137,9 +138,18 @@ class Cloner:
         chosen = lookup(methods or (self.options.method,))
         faces, options = self.faces, self.options
         expression = stages.expression(faces, source_expression, source_expression_points, options.lambda_k, options.retarget, crop)
-        shapes = stages.shapes(faces, options, expression, {m.shape for m in chosen})
-        photo = faces.expression_photo(expression.image, expression.points, expression.still) if any(m.eri for m in chosen) else None
-        return Prepared(faces, options, self.transfer, chosen, expression, shapes, photo)
+        if not any(m.eri for m in chosen):
+            return Prepared(
+                faces, options, self.transfer, chosen, expression, stages.shapes(faces, options, expression, _shapes(chosen)), None
+            )
+        # the ERI's photos and the mouth's measures (the faces' own, made once) beside the shape stages: on another core
+        with concurrent.futures.ThreadPoolExecutor(1) as beside:
+            photo = beside.submit(faces.expression_photo, expression.image, expression.points, expression.still)
+            measured = beside.submit(lambda: faces.mouth_reference) if options.mouth else None
+            shapes = stages.shapes(faces, options, expression, _shapes(chosen))
+            if measured is not None:
+                measured.result()
+            return Prepared(faces, options, self.transfer, chosen, expression, shapes, photo.result())
 
     def choose_lambda(self, frames: Sequence[np.ndarray], points: Sequence[np.ndarray]) -> float:
         """One lambda_k for several expressions on these faces (the frames of a performance): the median of the DB
@@ -167,6 +177,11 @@ class Cloner:
             One result per method.
         """
         return self.prepare(source_expression, source_expression_points, methods, crop=crop).render()
+
+
+def _shapes(methods: tuple[Method, ...]) -> set[str]:
+    """The shape stages ``methods`` end with."""
+    return {m.shape for m in methods}
 
 
 def _same_strengths(a: Options, b: Options) -> bool:
