@@ -34,7 +34,7 @@ RANKS = {
 OUTER = 9
 #: the rooms where the clone's options are read and handed on (a core room's functions take plain arguments, so that a
 #: ``size`` of a crop or a ``layout`` of landmarks there is another thing than the option).
-SURFACES = ("options.py", "pipeline", "drive", "cli", "server", "batch", "study", "evaluation", "expressions/__init__.py")
+SURFACES = ("options", "pipeline", "drive", "cli", "server", "batch", "study", "evaluation", "expressions/__init__.py")
 
 
 def modules() -> dict[str, Path]:
