@@ -27,8 +27,8 @@ from .jobs import JOB_ID, NoSuchJob
 from .limits import Busy
 
 if TYPE_CHECKING:
-    from ..pipeline.cloner import CloneResult, Prepared
-    from ..pipeline.group import Group
+    from ...pipeline.cloner import CloneResult, Prepared
+    from ...pipeline.group import Group
 
 #: the preview's longest side, pixels.
 PREVIEW = 512
@@ -70,8 +70,8 @@ class Edit:
     def answer(self, preview: bool, changes: dict[str, Any], extension: str, record: bool) -> tuple[bytes, dict[str, Any] | None]:
         """:meth:`render`, encoded as a file of ``extension`` (:func:`exprclone.io.images.encode_image`), and if asked its
         JSON record (:func:`exprclone.io.record.result_record`), as ``POST /api/clone`` gives them."""
-        from ..io.images import encode_image
-        from ..io.record import result_record
+        from ...io.images import encode_image
+        from ...io.record import result_record
 
         result = self.render(preview, changes)
         said = result_record(dataclasses.replace(result, landmarker=self.landmarker), self.inputs) if record else None
