@@ -6,6 +6,7 @@ import argparse
 import json
 from typing import TYPE_CHECKING
 
+from ..io.record import result_record
 from ..options import Options, differing, flag, key, spec
 from .inputs import add_inputs, load_inputs, source_photos
 
@@ -21,8 +22,11 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..io.images import atomic_write, check_output_path, save_image
-    from ..io.record import result_record
+    from ..io.images import (  # (numpy and the rest: loaded when the command runs, not for --help)
+        atomic_write,
+        check_output_path,
+        save_image,
+    )
 
     paths = source_photos(args)
     check_output_path(args.output, paths)

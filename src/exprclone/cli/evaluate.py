@@ -6,8 +6,11 @@ import argparse
 import os
 import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
+from .. import data as samples
+from ..io.progress import Bar
 from ..options import Options, key, spec
 from .inputs import add_options, options_of, value_type
 
@@ -78,17 +81,14 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 
 def run(args: argparse.Namespace) -> None:
-    from pathlib import Path
 
-    from .. import data as samples
-    from ..evaluation.expression import held_out
+    from ..evaluation.expression import held_out  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..evaluation.expression import section as expression_section
     from ..evaluation.london import Dataset
     from ..evaluation.report import write_report
     from ..evaluation.runner import run as score
     from ..evaluation.runner import variants
     from ..expressions import load
-    from ..io.progress import Bar
 
     methods = args.methods
     data = Dataset.open(args.data or samples.london())

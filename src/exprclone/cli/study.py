@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from ..errors import ExprCloneError
+from ..io.progress import Bar
 from ..options import Options, names
 from .batch import add_workers, backend_of
 from .evaluate import add_lists
@@ -45,8 +46,7 @@ def run(args: argparse.Namespace) -> None:
 
 
 def make(args: argparse.Namespace) -> None:
-    from ..io.progress import Bar
-    from ..study.make import make as make_study
+    from ..study.make import make as make_study  # (numpy and the rest: loaded when the command runs, not for --help)
 
     options = options_of(args, Options, STUDY)
     backend = backend_of(args)
@@ -65,7 +65,7 @@ def make(args: argparse.Namespace) -> None:
 
 def serve(args: argparse.Namespace) -> None:
     server_packages()
-    from ..study.app import create_app
+    from ..study.app import create_app  # (FastAPI, numpy and the rest: loaded when serving, not for --help)
 
     for flag, value in (("--max-participants", args.max_participants), ("--new-per-address", args.new_per_address)):
         if value < 1:
@@ -76,7 +76,7 @@ def serve(args: argparse.Namespace) -> None:
 
 
 def results(args: argparse.Namespace) -> None:
-    from ..io.images import atomic_write, check_output_path
+    from ..io.images import atomic_write, check_output_path  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..study.results import csv_text, formatted
     from ..study.results import results as table
 

@@ -53,6 +53,7 @@ class Driving(Chosen):
             also=(int,),
             metavar="N|closed|first",
             schema={"pattern": "^(closed|first|[0-9]+)$"},
+            surfaces=frozenset({"cli", "form"}),
             page=Page(
                 "Neutral face",
                 "The frame of the video whose face is taken as the person at rest; every expression is measured from it.",

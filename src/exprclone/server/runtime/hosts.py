@@ -27,21 +27,19 @@ from collections.abc import Callable
 from multiprocessing.connection import Connection
 from typing import Any
 
+import cv2
 import numpy as np
 
 from ...errors import ExprCloneError
+from ...io.images import load_image
 from ...options import Options
 from ..session import Session
+from ..work import load_models
 
 
 def serve(connection: Connection) -> None:
     """A host process's loop: ``("start", (portrait bytes, max_pixels, arguments of Session))``, then calls of the
     session's methods ``(name, arguments)``, then ``("end", ())``; each answered ``("ok", result)`` or ``("error", e)``."""
-    import cv2
-
-    from ...io.images import load_image
-    from ..work import load_models
-
     cv2.setNumThreads(1)  # the session's frames are small: its other cores serve the other sessions (module docstring)
     load_models()
     session: Session | None = None

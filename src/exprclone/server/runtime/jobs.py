@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ...errors import ExprCloneError
 from .limits import Busy
 
 #: a job id: 32 hex digits.
@@ -192,6 +193,4 @@ def expired(jobs: list[tuple[str, float | None, bool]], ttl: float, now: float) 
 def job_error(error: BaseException) -> str:
     """What a failed job's state says of the error that ended it: a user's error (ExprCloneError) as it is worded, any
     other as an internal error (its details are the server's log's, not a client's)."""
-    from ...errors import ExprCloneError
-
     return str(error) if isinstance(error, ExprCloneError) else "the job failed (internal error)"

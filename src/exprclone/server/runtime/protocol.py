@@ -15,9 +15,11 @@ import struct
 from typing import Any, Literal, overload
 
 from fastapi import WebSocket, WebSocketDisconnect
+from PIL import Image, UnidentifiedImageError
 
 from ...errors import ExprCloneError
 from ...io.documents import parse_json
+from ...io.images import check_size
 from ...options import Framing, Options, expected, json_kinds
 from .state import Work
 
@@ -75,10 +77,6 @@ def parse_message(text: str) -> dict[str, Any]:
 def check_frame(content: bytes, max_pixels: int | None) -> None:
     """A frame message: a 4-byte number and a JPEG or PNG whose size, read from its header, passes an upload's checks
     (:func:`exprclone.io.images.check_size`) before it is decoded; else :class:`Misuse` about ``frame``."""
-    from PIL import Image, UnidentifiedImageError
-
-    from ...io.images import check_size
-
     image = content[SEQUENCE.size :]
     try:
         with Image.open(io.BytesIO(image)) as header:

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
-from distributed import KilledWorker, Lock, Variable
+from distributed import KilledWorker, Lock, Variable, get_client
 from distributed.client import FutureCancelledError
 
 from .. import work
@@ -54,8 +54,6 @@ class Progress:
     name: str
 
     def __call__(self, done: int, total: int) -> None:
-        from distributed import get_client
-
         Variable(self.name, client=get_client()).set({"done": done, "total": total})
 
 
