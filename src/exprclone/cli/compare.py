@@ -23,7 +23,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..evaluation.figures import draw, figure_request, one_face
+    from ..evaluation.figures import draw, figure_request, one_face  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..io.images import check_output_path, save_image
 
     paths = source_photos(args)

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from ..errors import ExprCloneError, naming
-from ..options import Options, changed, key, names, offered, spec
+from ..options import Options, changed, flag, key, names, offered, spec
 from ..roles import ROLES, TARGET_NEUTRAL
 
 if TYPE_CHECKING:
@@ -48,20 +48,22 @@ def value_type(cls: type, name: str) -> Callable[[str], Any]:
 def add_options(p: Any, cls: type, chosen: tuple[str, ...] | None = None) -> None:
     """The options of ``cls`` (:class:`~exprclone.options.Options` or another value of option fields) that the
     command line offers, of ``chosen``, each an argument made from its spec: ``--strength S``, ``--no-mouth``, ``--global-landmarks
-    FILE``. ``p`` is a parser or a group of one. Arguments not given are None: :func:`options_of` leaves them as they are."""
+    FILE``; a switch on by default is a flag that turns it off, its help what giving the flag does (the spec's
+    ``flag_help``). ``p`` is a parser or a group of one. Arguments not given are None: :func:`options_of` leaves them as
+    they are."""
     default = cls()
     for name in offered(cls, "cli", chosen):
-        option = spec(cls, name)
-        flag = option.flag or f"--{key(cls, name).replace('_', '-')}"
+        option, given = spec(cls, name), flag(cls, name)
         value = getattr(default, name)
         if option.file:
-            p.add_argument(flag, dest=name, metavar=option.metavar, help=option.help)
+            p.add_argument(given, dest=name, metavar=option.metavar, help=option.help)
         elif option.kind is bool:
-            p.add_argument(flag, dest=name, action="store_false" if value else "store_true", default=None, help=option.help)
+            action, said = ("store_false", option.flag_help) if value else ("store_true", option.help)
+            p.add_argument(given, dest=name, action=action, default=None, help=said)
         else:
             shown = "" if value is None else f" (default: {value:g})" if isinstance(value, float) else f" (default: {value})"
             read = None if option.choices else value_type(cls, name)
-            p.add_argument(flag, dest=name, type=read, choices=option.choices, metavar=option.metavar, help=option.help + shown)
+            p.add_argument(given, dest=name, type=read, choices=option.choices, metavar=option.metavar, help=option.help + shown)
 
 
 def options_of(args: argparse.Namespace, cls: type[T], chosen: tuple[str, ...] | None = None, base: T | None = None) -> T:

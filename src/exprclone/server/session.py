@@ -1,7 +1,7 @@
 """A live session: a portrait that follows a camera's frames, its neutral face captured from them (:class:`Session`).
 
-It knows nothing of sockets: the WebSocket route (:mod:`exprclone.server.live`) hands it each
-frame, and it runs in a process of its own (:mod:`exprclone.server.rendering`).
+It knows nothing of sockets: the WebSocket route (:mod:`exprclone.server.routers.live`) hands it each
+frame, and it runs in a process of its own (:mod:`exprclone.server.runtime.hosts`).
 """
 
 from __future__ import annotations
@@ -120,7 +120,8 @@ class Session:
         return door.pair(Request(neutral, None, portrait, self._driving()))
 
     def close(self) -> None:
-        """Release what the session holds: nothing here (a :class:`~exprclone.server.rendering.RemoteSession` gives its process back)."""
+        """Release what the session holds: nothing here (a :class:`~exprclone.server.runtime.hosts.RemoteSession` gives its
+        process back)."""
 
     def status(self, face: bool) -> dict[str, Any]:
         return {"type": "status", "face": face, "neutral": self.driver is not None, "lambda_k": json_number(self.chosen)}

@@ -1,5 +1,5 @@
 """The server's CPU work, run in worker processes that load the models once: the server's own, or a Dask cluster's
-(``serve --scheduler``, :mod:`exprclone.server.cluster`).
+(``serve --scheduler``, :mod:`exprclone.server.runtime.cluster`).
 
 Each function takes small, picklable arguments (the uploaded bytes and the options) and
 returns encoded results, so that only files cross between the web process and its
