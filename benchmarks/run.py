@@ -99,7 +99,7 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
     expression, shapes, faces = prepared.expression, prepared.shapes, cloner.faces
     gl, lo, nb = shapes["global"].points, shapes["local"].points, faces.neighbours
     mesh, lambdas = faces.mesh, np.array(db_metric.LAMBDAS)
-    rendered = render.fi(faces, shapes["elastic"].points, cloner.transfer, "mesh")
+    rendered = render.fi(faces, *render.geometry(faces, shapes["elastic"].points, cloner.transfer), "mesh")
     dst = mesh.control_points(gl)
     centres, radii = muscle.areas(gl, DLIB68)
     h = np.ones(len(centres))
@@ -123,7 +123,7 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
         ),
         "warp (full image)": median_ms(lambda: piecewise.warp(tn_img, mesh.points, dst, mesh.triangles), repeat),
         "ERI (both source photos warped on its grid)": median_ms(
-            lambda: render.ratio(faces, rendered, prepared.photo, cloner.transfer, "mesh"), repeat
+            lambda: render.ratio(faces, rendered.control, prepared.photo, cloner.transfer, "mesh"), repeat
         ),
         "MD mask (Eqs. 10-11)": median_ms(
             lambda: muscle.importance_mask(tn_img.shape[:2], centres, radii, h, muscle.mask_step(radii)), repeat

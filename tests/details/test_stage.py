@@ -14,8 +14,8 @@ def test_the_eri_changes_no_pixel_outside_its_box_and_its_box_is_tight(photo):
     (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("126"), photo("126", "smile"), photo("003")
     cloner = pair(Request.of(sn, None, tn, landmarks=(sn_lm, None, tn_lm)))
     prepared = cloner.prepare(se, se_lm, ("e+md",))
-    fi = render.fi(cloner.faces, prepared.shapes["elastic"].points, cloner.transfer, "mesh")
-    ratio = render.ratio(cloner.faces, fi, prepared.photo, cloner.transfer, "mesh")
+    fi = render.fi(cloner.faces, *render.geometry(cloner.faces, prepared.shapes["elastic"].points, cloner.transfer), "mesh")
+    ratio = render.ratio(cloner.faces, fi.control, prepared.photo, cloner.transfer, "mesh")
     box = ratio.box
     outside = np.ones(tn.shape[:2], bool)
     outside[box] = False

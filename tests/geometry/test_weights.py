@@ -61,8 +61,10 @@ def test_strength_scales_motion_and_the_eri_in_the_log_domain(pair):
     (sn, se, tn), (sn_lm, se_lm, tn_lm) = images, landmarks
     cloner = Cloner(sn, sn_lm, tn, tn_lm)
     faces, photo = cloner.faces, cloner.prepare(se, se_lm, ("global+eri",)).photo
-    rendered = render.fi(faces, whole.landmarks["global"], cloner.transfer, "mesh")
-    whole_eri, half_eri = (render.ratio(faces, rendered, photo, render.transfer(faces, Options(strength=s)), "mesh") for s in (1, 0.5))
+    rendered = render.fi(faces, *render.geometry(faces, whole.landmarks["global"], cloner.transfer), "mesh")
+    whole_eri, half_eri = (
+        render.ratio(faces, rendered.control, photo, render.transfer(faces, Options(strength=s)), "mesh") for s in (1, 0.5)
+    )
     assert whole_eri.box == half_eri.box and (whole_eri.eri != 1).mean() > 0.05
     assert np.allclose(np.log(half_eri.eri), 0.5 * np.log(whole_eri.eri), atol=1e-5)
     assert np.abs(whole_eri.tint).max() > 0.005 and np.allclose(half_eri.tint, 0.5 * whole_eri.tint, atol=1e-6)  # its tint too

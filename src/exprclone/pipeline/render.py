@@ -9,6 +9,7 @@ the :class:`~exprclone.geometry.weights.Transfer` of the options' strengths (:fu
 
 from __future__ import annotations
 
+import concurrent.futures
 import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -45,10 +46,9 @@ def transfer(faces: Faces, options: Options) -> Transfer:
     return Transfer.build(options.region_strengths, options.strength_shading, faces.t_neu, faces.target_image.shape, faces.layout)
 
 
-def fi(faces: Faces, points: np.ndarray, transfer: Transfer, image_warp: str) -> Rendered:
-    """FI: the target photo warped to ``points``, their motion scaled by ``transfer`` (:mod:`exprclone.geometry.weights`;
-    inner lips made valid, fold-overs relaxed but for the landmarks held by a strength of 0), by the image warp named
-    ``image_warp`` (:data:`~exprclone.imaging.warpers.IMAGE_WARPERS`)."""
+def geometry(faces: Faces, points: np.ndarray, transfer: Transfer) -> tuple[np.ndarray, int]:
+    """FI's control points for ``points``, their motion scaled by ``transfer`` (:mod:`exprclone.geometry.weights`;
+    inner lips made valid, fold-overs relaxed but for the landmarks held by a strength of 0), and how many were unfolded."""
     mesh = faces.mesh
     moved = transfer.landmarks(points)
     valid = lips.uncross(moved, faces.layout)
@@ -56,15 +56,21 @@ def fi(faces: Faces, points: np.ndarray, transfer: Transfer, image_warp: str) ->
     if held is not None:
         valid[held] = moved[held]  # (uncross judges the lips in the face's axes, which the other regions turn)
     control, unfolded = piecewise.unfold(mesh.points, mesh.control_points(valid), mesh.triangles, mesh.n_moving, held)
-    return Rendered(IMAGE_WARPERS[image_warp](faces.target_image, mesh.points, control, mesh), control, unfolded)
+    return control, unfolded
 
 
-def ratio(faces: Faces, target: Rendered, photo: ExpressionPhoto, transfer: Transfer, image_warp: str) -> Ratio:
-    """The ERI and its tint: both source photos warped to the geometry of FI ``target`` (Liu et al.), scaled by
-    ``transfer``."""
+def fi(faces: Faces, control: np.ndarray, unfolded: int, image_warp: str) -> Rendered:
+    """FI: the target photo warped to its control points (:func:`geometry`) by the image warp named ``image_warp``
+    (:data:`~exprclone.imaging.warpers.IMAGE_WARPERS`)."""
+    return Rendered(IMAGE_WARPERS[image_warp](faces.target_image, faces.mesh.points, control, faces.mesh), control, unfolded)
+
+
+def ratio(faces: Faces, control: np.ndarray, photo: ExpressionPhoto, transfer: Transfer, image_warp: str) -> Ratio:
+    """The ERI and its tint: both source photos warped to the geometry of FI (its ``control`` points, Liu et al.), scaled
+    by ``transfer``."""
     warp = IMAGE_WARPERS[image_warp]
     shape = faces.target_image.shape
-    made = ratio_image(faces.mesh, target.control, shape, faces.ratio_faces, faces.source_neutral_ctrl, photo, faces.layout, warp)
+    made = ratio_image(faces.mesh, control, shape, faces.ratio_faces, faces.source_neutral_ctrl, photo, faces.layout, warp)
     return Ratio(transfer.ratio(made.eri, made.box), transfer.tint(made.tint, made.box), made.box)
 
 
@@ -148,13 +154,15 @@ def render(
     transfer: Transfer,
 ) -> dict[str, CloneResult]:
     """Each method's image: FI for each shape, the ERI in its geometry (``photo``: the expression photo as the ERI takes
-    it, None when no method has the ERI), then each method's :func:`result`."""
+    it, None when no method has the ERI; made on another core while FI is warped: it needs FI's geometry alone), then
+    each method's :func:`result`."""
     kinds = {m.shape for m in methods}
-    rendered = {kind: fi(faces, shapes[kind].points, transfer, options.image_warp) for kind in kinds}
-    ratios = {}
-    if photo is not None:
-        shaded = {m.shape for m in methods if m.eri}
-        ratios = {kind: ratio(faces, rendered[kind], photo, transfer, options.image_warp) for kind in shaded}
+    shaded = {m.shape for m in methods if m.eri}
+    placed = {kind: geometry(faces, shapes[kind].points, transfer) for kind in kinds}
+    with concurrent.futures.ThreadPoolExecutor(1) as beside:
+        made = {} if photo is None else {k: beside.submit(ratio, faces, placed[k][0], photo, transfer, options.image_warp) for k in shaded}
+        rendered = {kind: fi(faces, *placed[kind], options.image_warp) for kind in kinds}
+        ratios = {kind: future.result() for kind, future in made.items()}
     return {
         m.name: result(faces, m, expression, shapes, rendered[m.shape], ratios.get(m.shape) if m.eri else None, options, transfer)
         for m in methods
