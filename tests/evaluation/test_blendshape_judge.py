@@ -39,6 +39,13 @@ def test_a_clone_is_closer_to_its_sources_expression_than_the_targets_neutral_fa
     assert mouth[:, 0].mean() < mouth[:, 1].mean() - 0.1 and (mouth[:, 0] < mouth[:, 1]).sum() >= 5
 
 
+def test_a_clone_moves_the_face_more_as_a_clear_source_did_than_no_change_does(rows):
+    # no change's change is none: its distance is the source's own change, 1.04 for 001 and 1.35 for 126; 003 smiles
+    # faintly (0.18), and the same small motion reads as another on another face (its clones: 0.22 and 0.53)
+    clear = [pair for pair in rows.values() if float(pair["no change"]["change"]) > 0.5]
+    assert len(clear) == 4 and all(float(p["e+md"]["change"]) < float(p["no change"]["change"]) - 0.2 for p in clear)
+
+
 def test_the_clone_keeps_part_of_the_sources_rise_and_no_change_none(rows):
     for pair in rows.values():
         assert pair["no change"]["rise_kept"] == 0.0 and pair["real"]["to_real"] == 0.0

@@ -12,6 +12,12 @@ expression, and says:
   faces differ at rest too: the target's neutral photo (``no change``) and its real smile
   (``real``) give the floor and the spread of real faces on the same scale;
 * **the distance to the target's real expression**, the same way;
+* **the change against the source's**: the same distance between the result's change from the
+  target's neutral photo and the source's change from its own (expression minus neutral, score by
+  score). People's faces at rest score apart (on the London Set two people's neutral photos lie
+  0.75 apart in total, as far as a smile is from its own neutral face, 0.97: ``mouthShrugLower``,
+  ``mouthPucker`` and the brows differ most), and a clone that keeps the target's face keeps that
+  difference: this distance leaves it out, and measures the motion alone;
 * **the rise kept**: of the :data:`RISE_TOP` scores the source raises most from its neutral
   photo to its expression, how much the result raises them from the target's neutral photo,
   as a share of the source's rise (sum over those scores of result minus target neutral, over
@@ -39,6 +45,8 @@ COLUMNS = (
     "to_source",
     *(f"to_real_{region}" for region in REGIONS),
     "to_real",
+    *(f"change_{region}" for region in REGIONS),
+    "change",
     "rise_kept",
 )
 #: each region's names' places among the 52 scores, and every region's ("total").
@@ -87,10 +95,15 @@ def judged(result: np.ndarray | None, source: Faces, target: Faces) -> dict[str,
         return out
     for name, other in (("to_source", source[1]), ("to_real", target[1])):
         if other is not None:
-            found = distances(result, other)
-            out.update({f"{name}_{region}": round(found[region], 4) for region in REGIONS}, **{name: round(found["total"], 4)})
+            out.update(_columns(name, distances(result, other)))
     (source_neutral, source_expression), target_neutral = source, target[0]
     if source_neutral is not None and source_expression is not None and target_neutral is not None:
+        out.update(_columns("change", distances(result - target_neutral, source_expression - source_neutral)))
         kept = rise_kept(source_neutral, source_expression, target_neutral, result)
         out["rise_kept"] = "" if np.isnan(kept) else round(kept, 4)
     return out
+
+
+def _columns(name: str, found: dict[str, float]) -> dict[str, float | str]:
+    """:func:`distances`' output as the columns ``NAME_mouth``, ``NAME_eyes``, ``NAME_brows`` and ``NAME`` (the total)."""
+    return {**{f"{name}_{region}": round(found[region], 4) for region in REGIONS}, name: round(found["total"], 4)}

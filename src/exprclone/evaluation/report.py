@@ -72,6 +72,8 @@ BLENDSHAPE_HEADER = (
     "eyes",
     "brows",
     "total",
+    "its change against the source's: mouth",
+    "total",
     "to the target's real expression: total",
     "source's rise kept (median)",
 )
@@ -87,7 +89,7 @@ def blendshape_table(summary: list[Row]) -> str:
 def blendshape_cells(s: Row) -> list[str]:
     """A line of :func:`summarise`'s output as the blendshape judge's table shows it (:data:`BLENDSHAPE_HEADER`):
     the distances' means and the rise kept's median, each ``0.123 [0.110, 0.135]`` ("-" where none was measured)."""
-    keys = ("to_source_mouth", "to_source_eyes", "to_source_brows", "to_source", "to_real", "rise_kept")
+    keys = ("to_source_mouth", "to_source_eyes", "to_source_brows", "to_source", "change_mouth", "change", "to_real", "rise_kept")
     return [str(s["to_source_n"]), *(_interval(s, key) for key in keys)]
 
 
@@ -192,7 +194,9 @@ def _introduction(command: str, data: Dataset, n_pairs: int) -> list[str]:
         f"skin's shadows are warmer. Grey shadows: the share of results under {GREY_WARMTH} (`exprclone.evaluation.scores.warmth`).",
         "The blendshape judge (`exprclone.evaluation.blendshape_judge`) reads MediaPipe's 52 expression scores (0 to 1) on",
         "each result: their Euclidean distance to the source's expression photo's, per region (mouth, eyes, brows) and in",
-        "total, and to the target's real expression's (means, with 95% bootstrap intervals over the pairs); and the share",
+        "total, and to the target's real expression's; the distance between its change from the target's neutral photo",
+        "and the source's change from its own (the motion alone: people's faces differ at rest; means, with 95% bootstrap",
+        "intervals over the pairs); and the share",
         f"of the source's rise it keeps: over the {RISE_TOP} scores the source raises most from its neutral photo, the result's",
         "rise from the target's neutral photo over the source's (median). Each result's 52 scores: `blendshapes.csv`.",
         "",
