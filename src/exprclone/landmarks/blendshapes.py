@@ -14,7 +14,7 @@ and run on LiteRT, as the face mesh does (:mod:`exprclone.landmarks.facemesh`):
    ``(x, y)`` in the photo's pixels: MediaPipe's ``FaceBlendshapesGraph`` takes these indices
    (``kLandmarksSubsetIdxs``) and scales its normalised landmarks by the image's width and
    height (``LandmarksToTensorCalculator``). The model normalises the points itself: moved or
-   scaled alike in x and y they score the same (within 1e-5; tests/landmarks/test_blendshapes.py).
+   scaled alike in x and y they score the same, to float precision (tests/landmarks/test_blendshapes.py).
    On MediaPipe's own test case (``face_blendshapes_in_landmarks.prototxt``, an 820x1024
    image) it gives ``face_blendshapes_out.prototxt``'s 52 scores within 2e-6.
 
