@@ -35,7 +35,9 @@ palest and the three darkest of the London Set by their cheeks' L*
   still portrait's distance to the same frames (what an output that never moved would score); the share of the
   driver's rise it keeps (its rise from the portrait over the driver's from its neutral frame, on the scores the
   driving frame raises most; the median over the frames where the driver moves; issue 57 asks for 0.7); and the
-  correlation over time of ``jawOpen``, the output's against the driver's. The judge: closer to the driving frames
+  correlation over time of ``jawOpen``, the output's against the driver's, and how much of the driver's jaw opening the
+  output keeps (its ``jawOpen`` over the portrait's, summed over the frames, over the driver's over its neutral frame's:
+  :data:`JAW_MOVES` at least, or NaN). The judge: closer to the driving frames
   than the still portrait.
 - motion: the correlation over time of the mouth opening (:func:`exprclone.mouth.measure.opening`),
   the driver's against the output's, both from landmarks found afresh on each frame; and, for
@@ -67,6 +69,8 @@ LIP_DARKER = 3.0
 TEETH_TOP = 0.10
 #: frames with teeth in sight a case needs to be judged on its teeth.
 TEETH_FRAMES = 3
+#: the driver's jaw moves when its jawOpen rises by this much above its neutral frame's, on average over the frames.
+JAW_MOVES = 0.02
 #: the driver's head is still when its rigid landmarks move less than this (eye distances) from a frame to the next.
 STILL = 0.01
 
@@ -158,21 +162,23 @@ def expression(outputs: list[tuple[int, np.ndarray]], driver: list[np.ndarray | 
     from exprclone.evaluation.runner import scores_of
     from exprclone.landmarks.blendshapes import NAMES
 
+    jaw_open, rest = NAMES.index("jawOpen"), driver[neutral]
     seen, unmoved, kept, jaw = [], [], [], []
     for k, image in outputs:
         mine, theirs = scores_of(image, f"output frame {k}"), driver[k]
-        if mine is None or theirs is None or still is None:
+        if mine is None or theirs is None or still is None or rest is None:
             continue
         seen.append(distances(mine, theirs))
         unmoved.append(distances(still, theirs)["total"])
-        if driver[neutral] is not None:
-            kept.append(rise_kept(driver[neutral], theirs, still, mine))
-        jaw.append((mine[NAMES.index("jawOpen")], theirs[NAMES.index("jawOpen")]))
+        kept.append(rise_kept(rest, theirs, still, mine))
+        jaw.append((mine[jaw_open] - still[jaw_open], theirs[jaw_open] - rest[jaw_open]))
     found = {f"to_driver_{region}": float(np.mean([d[region] for d in seen])) if seen else np.nan for region in ("mouth", "eyes", "brows")}
     found["to_driver"] = float(np.mean([d["total"] for d in seen])) if seen else np.nan
     found["still_to_driver"] = float(np.mean(unmoved)) if unmoved else np.nan
     found["rise_kept"] = float(np.nanmedian(kept)) if np.isfinite(kept).any() else np.nan
     found["jaw_r"] = float(np.corrcoef(np.array(jaw).T)[0, 1]) if len(jaw) > 2 else np.nan
+    rises = np.array(jaw).reshape(-1, 2).mean(0) if jaw else np.zeros(2)
+    found["jaw_kept"] = float(rises[0] / rises[1]) if rises[1] >= JAW_MOVES else np.nan
     return found
 
 
@@ -292,7 +298,7 @@ def main() -> None:
     print(f"exprclone video judges: {args.method} at {args.size} px, portraits {' '.join(portraits)}, {len(clips)} GRID clips\n")
     print("clip | portrait | teeth frames | yellowness (own) | lightness (own) | lip fall (driver's) | ", end="")
     print("jitter (driver's) | rendered jitter (tracked) | flicker (driver's; in the portrait's light) | opening r (rendered) | ", end="")
-    print("expression to driver (still portrait's) | rise kept | jawOpen r")
+    print("expression to driver (still portrait's) | rise kept | jawOpen r (kept)")
     print("---|---|---|---|---|---|---|---|---|---|---|---|---")
     rows = []
     with concurrent.futures.ProcessPoolExecutor(args.jobs) if args.jobs > 1 else contextlib.nullcontext() as pool:
@@ -305,7 +311,11 @@ def main() -> None:
             cells += [f"{1000 * row['rendered_jitter']:.2f} ({1000 * row['tracked_jitter']:.2f})"]
             cells += [f"{row['flicker']:.2f} ({row['driver_flicker']:.2f}; {row['relit_flicker']:.2f})"]
             cells += [f"{row['correlation']:.2f} ({row['rendered_correlation']:.2f})"]
-            cells += [f"{row['to_driver']:.3f} ({row['still_to_driver']:.3f})", f"{row['rise_kept']:.2f}", f"{row['jaw_r']:.2f}"]
+            cells += [
+                f"{row['to_driver']:.3f} ({row['still_to_driver']:.3f})",
+                f"{row['rise_kept']:.2f}",
+                f"{row['jaw_r']:.2f} ({row['jaw_kept']:.2f})",
+            ]
             print(" | ".join(cells), flush=True)
     print("\njitter in thousandths of an eye distance; yellowness and lightness over the cheeks, in b* and L*")
     said = [verdicts(r) for r in rows]
@@ -337,8 +347,8 @@ def expression_summary(rows: list[dict]) -> None:
     print(f" (the still portrait's {still:.3f})")
     kept = np.array([row["rise_kept"] for row in rows])
     print(f"driver's rise kept: median {np.nanmedian(kept):.2f}, least {np.nanmin(kept):.2f}, at least 0.7 on", end="")
-    jaw = np.nanmedian([row["jaw_r"] for row in rows])
-    print(f" {int((kept >= 0.7).sum())} of {int(np.isfinite(kept).sum())} cases; jawOpen r median {jaw:.2f}")
+    jaw, jaw_kept = (np.nanmedian([row[k] for row in rows]) for k in ("jaw_r", "jaw_kept"))
+    print(f" {int((kept >= 0.7).sum())} of {int(np.isfinite(kept).sum())} cases; jawOpen r median {jaw:.2f}, its rise kept {jaw_kept:.2f}")
 
 
 if __name__ == "__main__":
