@@ -24,8 +24,9 @@ expression, and says:
   the sum of source expression minus source neutral): 1 where the clone moves the face as the
   source moved its own, 0 where it does not move it.
 
-Distances are in score units (each score runs from 0 to 1). The judge reads the landmarks
-the model places, not the pixels: it sees the shape of an expression, not its shading.
+Distances are in score units (each score runs from 0 to 1). The blendshape model reads the
+landmarks the mesh places, not the pixels: it sees the shape of an expression, and its shading
+only where that moves a landmark.
 """
 
 from __future__ import annotations
@@ -38,8 +39,8 @@ from ..landmarks.blendshapes import EXPRESSION, REGIONS, indices
 RISE_TOP = 4
 #: a source whose top scores rise by less than this in all (a face that barely moves) has no rise to keep: NaN.
 MIN_RISE = 0.1
-#: the judge's columns in ``pairs.csv``: the distances to the source's expression and to the target's real one, per
-#: region and in total, and the rise kept.
+#: the judge's columns in ``pairs.csv``: the distances to the source's expression and to the target's real one, and of
+#: the result's change to the source's, per region and in total; and the rise kept.
 COLUMNS = (
     *(f"to_source_{region}" for region in REGIONS),
     "to_source",
