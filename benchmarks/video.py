@@ -37,6 +37,7 @@ from exprclone.io.images import load_image
 from exprclone.io.video import probe, read_frames, write_video
 from exprclone.landmarks.backends import default_detector
 from exprclone.methods import lookup
+from exprclone.pipeline import render
 from exprclone.pipeline.cloner import Cloner
 
 SIZE = 512
@@ -51,23 +52,23 @@ def per_frame(rows: dict[str, float], frames: int) -> None:
 
 
 def detail_steps(cloner: Cloner, frames: list, points, lambda_k: float, repeat: int) -> dict[str, float]:
-    """e+md's detail steps (:meth:`Cloner.details`) each alone over the frames, on every frame's own FI and ERI."""
+    """e+md's detail steps (:func:`exprclone.pipeline.render.details`) each alone over the frames, on every frame's own
+    FI and ERI."""
     method = lookup(("e+md",))[0]
     inputs = []
-    transfer = cloner.transfer
+    faces, transfer = cloner.faces, cloner.transfer
     for frame, p in zip(frames, points):
         prepared = cloner.changed(lambda_k=lambda_k).prepare(frame, p, ("e+md",))
-        rendered = cloner.fi(prepared.shapes["elastic"].points, transfer)
-        inputs.append((prepared, rendered, cloner.ratio(rendered, prepared.photo, transfer)))
-    landmarks = cloner.faces.mesh.n_landmarks  # the final landmarks lead the control points
+        rendered = render.fi(faces, *render.geometry(faces, prepared.shapes["elastic"].points, transfer), "mesh")
+        inputs.append((prepared, rendered, render.ratio(faces, rendered.control, prepared.photo, transfer, "mesh")))
 
     def details(mouth: bool) -> None:
         for prepared, rendered, ratio in inputs:
-            cloner.details(method, prepared.expression, rendered.image, rendered.control[:landmarks], ratio, mouth, transfer)
+            render.details(faces, method, prepared.expression, rendered, ratio, mouth, transfer)
 
     steps = {
         "ERI (the three photos on its grid, its tests)": median_ms(
-            lambda: [cloner.ratio(r, p.photo, transfer) for p, r, _ in inputs], repeat
+            lambda: [render.ratio(faces, r.control, p.photo, transfer, "mesh") for p, r, _ in inputs], repeat
         ),
         "MD mask and Eq. (9)": median_ms(lambda: details(False), repeat),
         "MD mask, Eq. (9) and the mouth interior": median_ms(lambda: details(True), repeat),
@@ -114,9 +115,9 @@ def main() -> None:
     print(f"\nrendering, landmarks known, lambda_k fixed ({lam:g}), in turn")
     cloner = recording.driver.cloner
     drivers = {method: drive.Driver(cloner.changed(method=method)) for method in ("global", "elastic", "elastic+eri", "e+md")}
-    render = interleaved_ms({m: lambda d=d: sum(1 for _ in d.frames(frames, recording.points)) for m, d in drivers.items()}, args.repeat)
-    per_frame(render, n)
-    detail = (render["e+md"] - render["elastic"]) / n
+    rendering = interleaved_ms({m: lambda d=d: sum(1 for _ in d.frames(frames, recording.points)) for m, d in drivers.items()}, args.repeat)
+    per_frame(rendering, n)
+    detail = (rendering["e+md"] - rendering["elastic"]) / n
     print(f"  the e+md detail steps (ERI, MD, mouth) cost {detail:.1f} ms/frame")
 
     print("\ne+md's detail steps each alone, landmarks known")

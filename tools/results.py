@@ -14,7 +14,7 @@ files alone: the documentation's build reads them and runs nothing.
 
 Example (the run behind the published pages)::
 
-    python tools/results.py evaluate --data ../shared/data/london --pairs 300 --jobs 2 --global-warps similarity,rbf
+    python tools/results.py evaluate --data ../shared/data/london --pairs 300 --held-out 4 --jobs 2 --global-warps similarity,rbf
     python tools/results.py bench run --repeat 5 --quick
     python tools/results.py bench video --repeat 3
     python tools/results.py bench serve --scheduler --requests 60

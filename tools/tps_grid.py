@@ -27,7 +27,8 @@ from exprclone.imaging import piecewise, tps
 from exprclone.imaging.warpers import tps_refine
 from exprclone.io.images import load_image
 from exprclone.landmarks.backends import default_detector
-from exprclone.pipeline.clone import Cloner
+from exprclone.pipeline import render
+from exprclone.pipeline.request import Request, pair
 
 
 def control_points(data: Dataset, a: str, b: str):
@@ -35,8 +36,8 @@ def control_points(data: Dataset, a: str, b: str):
     photos = [load_image(data.path(a, False)), load_image(data.path(a, True)), load_image(data.path(b, False))]
     points = [default_detector().detect(p) for p in photos]
     result = clone(*photos, method="e+md", landmarks=tuple(points))
-    cloner = Cloner(photos[0], points[0], photos[2], points[2])
-    return photos[2], cloner.faces.mesh, cloner.fi(result.landmarks["elastic"], cloner.transfer).control
+    cloner = pair(Request.of(photos[0], None, photos[2], landmarks=(points[0], None, points[2])))
+    return photos[2], cloner.faces.mesh, render.geometry(cloner.faces, result.landmarks["elastic"], cloner.transfer)[0]
 
 
 def errors(mesh, control, shape, rng) -> np.ndarray:

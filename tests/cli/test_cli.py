@@ -24,13 +24,16 @@ run = command  # in this process: the commands' own subprocesses (workers) aside
 
 def test_clone_writes_image_and_json(london, tmp_path):
     out, record = tmp_path / "out.png", tmp_path / "out.json"
-    p = run("clone", SN, SE, TN, "-o", out, "--save-json", record)
+    p = run("clone", SN, SE, TN, "-o", out, "--save-json", record, "--no-retarget")  # the paper's stages: a DB curve
     assert p.returncode == 0, p.stderr
     assert Image.open(out).size == Image.open(TN).size
     data = json.loads(record.read_text())
     assert data["method"] == "e+md" and len(data["landmarks"]["final"]) == 68
     assert len(data["db_curve"]) > 5 and data["lambda_k"] in [c["lambda_k"] for c in data["db_curve"]]
     assert sorted(os.listdir(tmp_path)) == ["out.json", "out.png"]  # no temporary files left
+    assert run("clone", SN, SE, TN, "-o", out, "--save-json", record).returncode == 0  # the product's: nothing to choose
+    data = json.loads(record.read_text())
+    assert data["lambda_k"] == 0 and data["db_curve"] is None
 
 
 def test_clone_with_given_landmarks_and_fixed_lambda(pair, tmp_path):

@@ -63,6 +63,15 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     )
     e.add_argument("--pairs", type=int, default=50, help="ordered pairs of different people, drawn with --seed (0: all; default 50)")
     e.add_argument("--seed", type=int, default=0)
+    e.add_argument(
+        "--held-out",
+        type=int,
+        default=0,
+        metavar="K",
+        help="deal the people into K folds, draw the pairs within them, and clone each fold's pairs with what is learnt"
+        " from people (the expression's shape, for --retargets true) learnt without that fold's people: no clone judged on"
+        " people it learnt from (default 0: the models shipped, learnt from the London Set)",
+    )
     add_lists(e, Options, ("method",), "the methods scored", every=("method",))
     e.add_argument("--out", default="report", help="report folder (default: report/)")
     e.add_argument("--jobs", type=int, default=1, help="processes to use (default 1)")
@@ -92,19 +101,20 @@ def run(args: argparse.Namespace) -> None:
 
     methods = args.methods
     data = Dataset.open(args.data or samples.london())
-    pairs = data.pairs(args.pairs, args.seed)
+    folds = data.folds(args.held_out, args.seed) if args.held_out > 1 else None
+    pairs = data.pairs(args.pairs, args.seed, folds)
     chosen = variants(args.global_warps, args.image_warps, args.strengths, args.retargets)
     bar = lambda total, what: Bar(sys.stderr, total, what)  # noqa: E731
     held = held_out([load(name) for name in args.expression], data) if args.expression else []
     landmarker = str(options_of(args, Options, ("landmarker",)).landmarker)
-    rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=bar, variants=chosen, landmarker=landmarker)
+    rows, landmarks = score(data, pairs, methods, jobs=max(1, args.jobs), progress=bar, variants=chosen, landmarker=landmarker, folds=folds)
     sections: list[str] = []
     if held:
         jobs = max(1, args.jobs)
         found, sections = expression_section(Path(args.out), data, held, rows, landmarks, methods, chosen, jobs, bar, landmarker)
         rows += found
     command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"
-    print(write_report(Path(args.out), data, rows, landmarks, methods, command, chosen, tuple(sections)))
+    print(write_report(Path(args.out), data, rows, landmarks, methods, command, chosen, tuple(sections), len(folds or ())))
     if sections:
         print(sections[2])
     print(f"report: {Path(args.out) / 'summary.md'}")

@@ -65,9 +65,20 @@ class Dataset:
         """The person's photo: their expression if ``smiling``, else their neutral face."""
         return self.photos[face_id][int(smiling)]
 
-    def pairs(self, n: int, seed: int) -> list[tuple[str, str]]:
-        """``n`` ordered pairs of different people drawn with a fixed seed (0: all of them)."""
-        every = [(a, b) for a in self.ids for b in self.ids if a != b]
+    def folds(self, k: int, seed: int) -> tuple[tuple[str, ...], ...]:
+        """The people dealt into ``k`` folds of (nearly) equal size, in an order drawn with a fixed seed.
+
+        >>> Dataset(Path("."), {str(i): ("", "") for i in range(7)}).folds(3, 0)
+        (('2', '6', '1'), ('4', '5'), ('3', '0'))
+        """
+        order = [self.ids[i] for i in np.random.default_rng(seed).permutation(len(self.ids))]
+        return tuple(tuple(order[f::k]) for f in range(k))
+
+    def pairs(self, n: int, seed: int, folds: tuple[tuple[str, ...], ...] | None = None) -> list[tuple[str, str]]:
+        """``n`` ordered pairs of different people drawn with a fixed seed (0: all of them); within ``folds`` if given
+        (both people of a pair in one fold)."""
+        together = {p: f for f in folds or (self.ids,) for p in f}
+        every = [(a, b) for a in self.ids for b in self.ids if a != b and together[a] == together[b]]
         if n <= 0 or n >= len(every):
             return every
         pick = np.random.default_rng(seed).choice(len(every), n, replace=False)

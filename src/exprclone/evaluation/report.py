@@ -37,6 +37,7 @@ def table(summary: list[Row]) -> str:
         "eyes+brows mean / median",
         "identity mean / median",
         "identity < 0.6",
+        "identity beyond a real smile as wide [95% CI]",
         "shows teeth: source does",
         "shows teeth: source does not",
         "judged smiling",
@@ -59,6 +60,7 @@ def cells(s: Row) -> list[str]:
         paired,
         *(_cell(s, score) for score in ("eyes_brows", "identity")),
         f"{100 * s['same_person']:.0f}%",
+        "-" if np.isnan(s["excess"]) else f"{s['excess']:+.3f} [{s['excess_low']:+.3f}, {s['excess_high']:+.3f}]",
         _share(s["teeth_kept"], s["teeth_sources"]),
         _share(s["teeth_invented"], s["closed_sources"]),
         "-" if np.isnan(s["smiling"]) else f"{100 * s['smiling']:.0f}%",
@@ -176,17 +178,19 @@ def tables(rows: list[Row], pair_rows: list[Row]) -> list[str]:
     return text
 
 
-def _introduction(command: str, data: Dataset, n_pairs: int) -> list[str]:
+def _introduction(command: str, data: Dataset, n_pairs: int, held_out: int = 0) -> list[str]:
     """The summary's opening: the command, the data, and what each column measures."""
+    within = f" (within {held_out} folds of the people, each fold's clones made with what was learnt without its people)"
     return [
         "# exprclone evaluation",
         "",
         f"`{command}`",
         "",
-        f"{n_pairs} ordered pairs of different people from `{data.root}`;",
+        f"{n_pairs} ordered pairs of different people from `{data.root}`{within if held_out else ''};",
         "each method's result is scored against the target's real smile. Landmark errors are in",
         "outer-eye-corner distances after similarity alignment; identity is dlib's face-descriptor",
-        "distance to the target's neutral photo (same person below 0.6). Teeth show when tooth-coloured",
+        "distance to the target's neutral photo (same person below 0.6), and its excess over a real smile as wide (the",
+        "line of identity against the mouth's widening over the targets' own real smiles). Teeth show when tooth-coloured",
         f"pixels (paler and brighter than the lips) cover at least {TEETH_SHOWN} squared mouth widths",
         "inside the inner lips (`exprclone.evaluation.teeth`); the two teeth columns give, of the pairs whose source's",
         "real smile shows teeth and of those whose does not, the share of results that do; the last, the share that the",
@@ -214,10 +218,12 @@ def write_report(
     command: str,
     variants: tuple[Variant, ...] = (PAPER,),
     sections: tuple[str, ...] = (),
+    held_out: int = 0,
 ) -> str:
     """``pairs.csv``, ``summary.md`` (with the variants against the default setting, :func:`contrasts`, if there are
     any, then the paragraphs of ``sections``) and the gallery (:func:`_gallery`) of e+md pairs in the first variant;
-    returns its tables (:func:`tables`), for the terminal."""
+    returns its tables (:func:`tables`), for the terminal. ``held_out``: the folds of the people the pairs were drawn
+    within, each cloned with what was learnt without its people (0: none)."""
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "pairs.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, FIELDS, extrasaction="ignore")
@@ -227,7 +233,7 @@ def write_report(
     pair_rows = [r for r in rows if r["source"] in data.photos]  # not a built-in expression's (sections)
     n_pairs = len({(r["source"], r["target"]) for r in pair_rows})
     shown = tables(rows, pair_rows)
-    text = _introduction(command, data, n_pairs) + shown
+    text = _introduction(command, data, n_pairs, held_out) + shown
     text += [line for section in sections for line in (section, "")]
     gallery = _gallery(out, data, rows, landmarks, "e+md" if "e+md" in methods else methods[-1], variants[0])
     if gallery:

@@ -39,6 +39,7 @@ one? does retargeting help?).
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import functools
 import itertools
 import multiprocessing
@@ -51,6 +52,7 @@ import numpy as np
 
 from ..errors import ExprCloneError, NoFaceError, naming
 from ..geometry import global_warp
+from ..geometry.expression_shape import ExpressionShape
 from ..io.images import load_image
 from ..io.progress import Display, Progress, Quiet
 from ..landmarks import align, blendshapes
@@ -100,6 +102,7 @@ FIELDS = (
     "variant",
     "smiling",
     "warmth",
+    "widening",
     *COLUMNS,
 )
 #: a result to score, by its row's name: ``(image or None, failure, lambda_k, variant label)``.
@@ -257,6 +260,7 @@ def scored_rows(
                 found = known[method] if method in known else shared(JUDGE).detect(image, f"{method} result")
                 row.update(landmark_error(found, truth, DLIB68))
                 row["identity"] = identity_distance(descriptor(image, found), target_descriptor)
+                row["widening"] = round(smile_strength(landmarks[tn], found), 4)
                 row["teeth"] = round(teeth(image, found, DLIB68), 5)
                 row["smiling"] = "" if judged is None else round(judged(found), 4)
                 warm = warmth(image, found, photo(tn), landmarks[tn], DLIB68)
@@ -293,9 +297,14 @@ def run(
     progress: Progress = Quiet,
     variants: tuple[Variant, ...] = (PAPER,),
     landmarker: str | None = None,
+    folds: tuple[tuple[str, ...], ...] | None = None,
 ) -> tuple[list[Row], dict[str, np.ndarray]]:
     """Score every pair (in ``jobs`` processes), each method in each of ``variants`` (:func:`variants`), the clones'
     landmarks placed by ``landmarker`` (:data:`exprclone.landmarks.backends.LANDMARKERS`), the scores' by the :data:`JUDGE`.
+
+    With ``folds`` of the people (:meth:`Dataset.folds`; each pair within one), what the clones learn from people (the
+    shape of the expression, :mod:`exprclone.geometry.expression_shape`) is learnt once per fold, from the other
+    folds' people alone, and each pair is cloned with its fold's: no clone is judged on people it learnt from.
 
     ``progress(total, what)`` makes a display of how many of ``total``
     things are done (:data:`exprclone.io.progress.Progress`): one for the photos'
@@ -318,9 +327,22 @@ def run(
         landmarks[path] = shared(JUDGE).detect(photo(path), path)
         inputs[path] = landmarks[path] if chosen == JUDGE else shared(chosen).detect(photo(path), path)
         bar.update(k)
-    tasks = [(data, pair, methods, landmarks, variants, inputs) for pair in pairs]
+    learnt = {p: model for f in folds or () for model in (held_out(data, f, landmarks),) for p in f}
+    tasks = [(data, pair, methods, landmarks, with_shape(variants, learnt.get(pair[0])), inputs) for pair in pairs]
     rows = [row for pair_rows in in_parallel(_score, tasks, jobs, progress(len(pairs), "pairs")) for row in pair_rows]
     return rows, landmarks
+
+
+def held_out(data: Dataset, fold: tuple[str, ...], landmarks: dict[str, np.ndarray]) -> ExpressionShape:
+    """The shape of the expression learnt from the people outside ``fold`` alone (their judge's landmarks, as the model
+    shipped is learnt: ``tools/train_expression_shape.py``)."""
+    others = [p for p in data.ids if p not in fold]
+    return ExpressionShape.learn([(landmarks[data.path(p, False)], landmarks[data.path(p, True)]) for p in others], DLIB68)
+
+
+def with_shape(variants: tuple[Variant, ...], model: ExpressionShape | None) -> tuple[Variant, ...]:
+    """``variants`` whose clones take the shape of the expression ``model`` (as they are if None)."""
+    return variants if model is None else tuple((label, dataclasses.replace(o, expression_shape=model)) for label, o in variants)
 
 
 def in_parallel(function: Callable[[T], U], tasks: list[T], jobs: int, bar: Display) -> Iterator[U]:

@@ -30,6 +30,18 @@ STRONG_SMILE = 0.20
 REFINED = (("elastic", "global"), ("e+md", "global+eri"))
 
 
+def identity_line(rows: list[Row]) -> tuple[float, float]:
+    """What a real smile as wide costs in identity: the intercept and slope of the line fitted on the targets' own
+    real smiles (``real`` rows), identity distance against the mouth's widening (``../shared/notes/identity.md``: real
+    smiles drift more the wider they are, so a clone is compared with a real smile as wide as itself, never with the
+    average real smile, which would reward smiling less); NaN without two real smiles."""
+    real = np.array([(float(r["widening"]), float(r["identity"])) for r in rows if r["method"] == "real" and r.get("widening", "") != ""])
+    if len(real) < 2:
+        return float("nan"), float("nan")
+    slope, intercept = np.polyfit(real[:, 0], real[:, 1], 1)
+    return float(intercept), float(slope)
+
+
 def summarise(rows: list[Row], strong_only: bool = False, baseline: str = "global") -> list[Row]:
     """Mean and median of each score per method; failures counted; share keeping identity.
 
@@ -38,6 +50,9 @@ def summarise(rows: list[Row], strong_only: bool = False, baseline: str = "globa
     with its standard error: differences between methods are small beside the spread
     between pairs, and pairing removes that spread.
 
+    ``excess`` is the identity distance beyond a real smile as wide (:func:`identity_line`), its mean with a 95%
+    bootstrap interval (``excess_low``, ``excess_high``).
+
     Teeth, over the pairs that succeeded: ``teeth_sources`` pairs whose source's real
     smile shows teeth (:data:`TEETH_SHOWN`), of which the share ``teeth_kept`` of
     results show teeth; ``closed_sources`` pairs whose source shows none, of which the
@@ -45,6 +60,7 @@ def summarise(rows: list[Row], strong_only: bool = False, baseline: str = "globa
     """
     out: list[Row] = []
     methods = list(dict.fromkeys(r["method"] for r in rows))
+    intercept, slope = identity_line(rows)
     base = {pair_of(r): r["mouth"] for r in rows if r["method"] == baseline + r.get("variant", "") and not r["failed"]}
     for m in methods:
         mine = [r for r in rows if r["method"] == m and (not strong_only or float(r["target_smile"]) >= STRONG_SMILE)]
@@ -56,6 +72,9 @@ def summarise(rows: list[Row], strong_only: bool = False, baseline: str = "globa
             line[f"{key}_median"] = float(np.median(values)) if len(values) else float("nan")
         ids = np.array([r["identity"] for r in ok], np.float64)
         line["same_person"] = float((ids < SAME_PERSON).mean()) if len(ids) else float("nan")
+        wide = [(float(r["widening"]), float(r["identity"])) for r in ok if r.get("widening", "") != ""]
+        excess = np.array([i - (intercept + slope * w) for w, i in wide], np.float64)
+        line["excess"], line["excess_low"], line["excess_high"] = mean_interval(excess)
         judged = np.array([float(r["smiling"]) for r in ok if r.get("smiling", "") != ""], np.float64)
         line["smiling"] = float((judged >= SMILING).mean()) if len(judged) else float("nan")
         diff = np.array([r["mouth"] - base[pair_of(r)] for r in ok if pair_of(r) in base], np.float64)

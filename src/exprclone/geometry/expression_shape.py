@@ -11,12 +11,16 @@ makes the target a stranger (``../shared/notes/identity.md``). So, in each face'
    smiles from its neutral shape, ``f(N) = mean motion + (N - mean neutral) W`` (ridge
    regression, :meth:`ExpressionShape.fit`);
 2. the source's motion ``m_s`` is split into its smile, ``k f(N_s)`` with ``k`` the least-squares
-   share of its own predicted smile (at least 0), and the rest ``r_s = m_s - k f(N_s)``;
-3. the target takes the smile as its own face would make it, ``k f(N_t)``, and of the rest only
-   what stands out of the people's own variation: ``r_s`` shrunk at each landmark by
-   :data:`SPREAD` times the spread of the rest over the people learnt from
-   (:func:`exprclone.geometry.retarget.shrink`). A smile's individual style is dropped; an
-   open mouth, raised brows or a wink (well beyond that spread) keeps most of itself.
+   share of its own predicted smile (at least 0), how far its lips part beyond that smile,
+   ``c p`` (``p`` the motion that goes with the inner lips' parting over the people learnt
+   from, a regression of the rest on it: teeth shown or not is the expression's, not the
+   person's), and the rest ``r_s = m_s - k f(N_s) - c p``;
+3. the target takes the smile as its own face would make it, ``k f(N_t)``, its lips parted along
+   ``p`` as far as the source's part (its smile's parting along ``p`` and its own beyond it, ``c``),
+   and of the rest only what stands out of the people's own variation: ``r_s``
+   shrunk at each landmark by :data:`SPREAD` times the spread of the rest over the people
+   learnt from (:func:`shrink`). A smile's individual style is
+   dropped; raised brows or a wink (well beyond that spread) keep most of themselves.
 
 :meth:`ExpressionShape.transfer` gives the target's motion in its photo's pixels. The model
 shipped (``exprclone/data/expression_shape.npz``) is learnt from the London Set's 72 people by
@@ -37,13 +41,37 @@ import numpy as np
 from ..landmarks import align
 from ..landmarks.layout import Layout
 from . import global_warp
-from .retarget import shrink
 
 #: the ridge penalty of the map from a neutral shape to its smile (in the normalised frame; chosen among 0.01 to 100 by
 #: the held-out landmark error of the predicted smiles on the London Set: flat from 0.1 to 10).
 RIDGE = 1.0
 #: the rest of the source's motion is shrunk by this many times the people's own spread of it, at each landmark.
 SPREAD = 2.0
+
+
+def shrink(vectors: np.ndarray, amount: np.ndarray | float) -> np.ndarray:
+    """Each vector shortened by ``amount``, and zero if it is shorter (soft thresholding).
+
+    Donoho's soft threshold of a noisy signal, applied to the length of each vector:
+    what lies within the noise is dropped, what stands out keeps its direction.
+
+    Parameters
+    ----------
+    vectors : ndarray of shape (N, 2)
+    amount : float or ndarray of shape (N,)
+
+    Returns
+    -------
+    ndarray of shape (N, 2)
+
+    Examples
+    --------
+    >>> shrink(np.array([[3.0, 4.0], [0.3, 0.4]]), 1.0).round(6).tolist()
+    [[2.4, 3.2], [0.0, 0.0]]
+    """
+    length = np.linalg.norm(vectors, axis=1)
+    keep = np.maximum(1.0 - np.asarray(amount) / np.maximum(length, 1e-12), 0.0)
+    return vectors * keep[:, None]
 
 
 def normalised(neutral: np.ndarray, points: np.ndarray, layout: Layout, vectors: bool = False) -> np.ndarray:
@@ -53,6 +81,11 @@ def normalised(neutral: np.ndarray, points: np.ndarray, layout: Layout, vectors:
     i, j = layout.eye_corners
     origin = 0.0 if vectors else (neutral[i] + neutral[j]) / 2
     return (np.asarray(points, float) - origin) @ axes.T / iod
+
+
+def parting(points: np.ndarray, layout: Layout) -> float:
+    """How far the inner lips part: the mean distance between the inner-lip points facing each other (``layout.lip_pairs``)."""
+    return float(np.mean([np.linalg.norm(points[a] - points[b]) for a, b in layout.lip_pairs]))
 
 
 def in_pixels(neutral: np.ndarray, motion: np.ndarray, layout: Layout) -> np.ndarray:
@@ -70,17 +103,21 @@ class ExpressionShape:
         The people's mean neutral face and mean motion, normalised (:func:`normalised`).
     weights : ndarray of shape (2N, 2N)
         The ridge map from a neutral face's departure from the mean to its motion's.
+    parting : ndarray of shape (N, 2)
+        The motion beyond the predicted one that goes with the inner lips' parting, of unit norm.
     spread : ndarray of shape (N,)
-        The root-mean-square length, at each landmark, of the people's own motion beyond their predicted one.
+        The root-mean-square length, at each landmark, of the people's own motion beyond their predicted one and its
+        lips' parting.
     """
 
     mean_neutral: np.ndarray
     mean_motion: np.ndarray
     weights: np.ndarray
+    parting: np.ndarray
     spread: np.ndarray
 
     @classmethod
-    def fit(cls, neutrals: Sequence[np.ndarray], motions: Sequence[np.ndarray], ridge: float = RIDGE) -> ExpressionShape:
+    def fit(cls, neutrals: Sequence[np.ndarray], motions: Sequence[np.ndarray], layout: Layout, ridge: float = RIDGE) -> ExpressionShape:
         """The model of people's normalised neutral faces and their own motions (:func:`normalised`), ``(N, 2)`` each."""
         x = np.array([n.ravel() for n in neutrals])
         y = np.array([m.ravel() for m in motions])
@@ -88,9 +125,13 @@ class ExpressionShape:
         xc = x - mx
         weights = np.linalg.solve(xc.T @ xc + ridge * np.eye(x.shape[1]), xc.T @ (y - my))
         shape = neutrals[0].shape
-        model = cls(mx.reshape(shape), my.reshape(shape), weights, np.zeros(shape[0]))
-        rest = np.array([model.split(n, m)[1] for n, m in zip(neutrals, motions)])
-        return cls(model.mean_neutral, model.mean_motion, weights, np.sqrt((rest**2).sum(2).mean(0)))
+        model = cls(mx.reshape(shape), my.reshape(shape), weights, np.zeros(shape), np.zeros(shape[0]))
+        rest = np.array([model.split(n, m)[1].ravel() for n, m in zip(neutrals, motions)])
+        parted = np.array([parting(n + m, layout) - parting(n, layout) for n, m in zip(neutrals, motions)])
+        direction = (parted - parted.mean()) @ (rest - rest.mean(0))
+        direction /= max(float(np.linalg.norm(direction)), 1e-12)
+        beyond = (rest - np.outer(rest @ direction, direction)).reshape(len(rest), *shape)
+        return cls(model.mean_neutral, model.mean_motion, weights, direction.reshape(shape), np.sqrt((beyond**2).sum(2).mean(0)))
 
     @classmethod
     def learn(cls, faces: Sequence[tuple[np.ndarray, np.ndarray]], layout: Layout, ridge: float = RIDGE) -> ExpressionShape:
@@ -98,7 +139,7 @@ class ExpressionShape:
         person; the head's motion between them removed, :func:`exprclone.geometry.global_warp.remove_head_motion`)."""
         neutrals = [normalised(n, n, layout) for n, _ in faces]
         motions = [normalised(n, global_warp.remove_head_motion(n, e, layout) - n, layout, vectors=True) for n, e in faces]
-        return cls.fit(neutrals, motions, ridge)
+        return cls.fit(neutrals, motions, layout, ridge)
 
     def predicted(self, neutral: np.ndarray) -> np.ndarray:
         """The motion a face of this normalised neutral shape makes: ``f(N)``, ``(N, 2)``."""
@@ -112,20 +153,30 @@ class ExpressionShape:
 
     def transfer(self, source_neutral: np.ndarray, source_motion: np.ndarray, target_neutral: np.ndarray, layout: Layout) -> np.ndarray:
         """The source's motion (``(N, 2)``, pixels, its head's motion removed) as the target's face makes it, in the
-        target's pixels: ``k f(N_t)`` and the source's rest shrunk by :data:`SPREAD` times the people's spread."""
-        share, rest = self.split(
-            normalised(source_neutral, source_neutral, layout), normalised(source_neutral, source_motion, layout, vectors=True)
-        )
-        motion = share * self.predicted(normalised(target_neutral, target_neutral, layout)) + shrink(rest, SPREAD * self.spread)
-        return in_pixels(target_neutral, motion, layout)
+        target's pixels: ``k f(N_t)``, the lips parted along ``p`` as far as the source's part (its smile's parting and
+        its own beyond it), and the rest shrunk by :data:`SPREAD` times the people's spread."""
+        neutral = normalised(source_neutral, source_neutral, layout)
+        share, rest = self.split(neutral, normalised(source_neutral, source_motion, layout, vectors=True))
+        own, target = self.predicted(neutral), self.predicted(normalised(target_neutral, target_neutral, layout))
+        beyond = float(rest.ravel() @ self.parting.ravel())
+        parted = beyond + share * float((own - target).ravel() @ self.parting.ravel())
+        moved = share * target + parted * self.parting + shrink(rest - beyond * self.parting, SPREAD * self.spread)
+        return in_pixels(target_neutral, moved, layout)
 
     def save(self, path: str | Path) -> None:
-        np.savez_compressed(path, mean_neutral=self.mean_neutral, mean_motion=self.mean_motion, weights=self.weights, spread=self.spread)
+        np.savez_compressed(
+            path,
+            mean_neutral=self.mean_neutral,
+            mean_motion=self.mean_motion,
+            weights=self.weights,
+            parting=self.parting,
+            spread=self.spread,
+        )
 
     @classmethod
     def load(cls, path: str | Path) -> ExpressionShape:
         with np.load(path) as f:
-            return cls(f["mean_neutral"], f["mean_motion"], f["weights"], f["spread"])
+            return cls(f["mean_neutral"], f["mean_motion"], f["weights"], f["parting"], f["spread"])
 
 
 @functools.cache

@@ -16,11 +16,11 @@ The options (beyond the method of Fig. 11 and its lambda_k):
 - ``strength``, ``only``, the regions' own strengths (``strength_mouth``, ``strength_eyes``,
   ``strength_brows``) and ``strength_shading`` (not in the paper): how much of the expression
   is transferred, and where (:mod:`exprclone.geometry.weights`).
-- ``retarget`` (not in the paper; on by default): the source's motion is cleaned of the
-  landmark fitter's scatter and of its lopsided part before any global warp, and local
-  re-shaping aims at the target's own organs moved by the source instead of the source's
-  organs (:mod:`exprclone.geometry.retarget`). ``retarget=False`` runs the paper's global and local
-  stages as they are.
+- ``retarget`` (not in the paper; on by default): the source's expression made as the target's
+  own face makes it, learnt from real faces (:mod:`exprclone.geometry.expression_shape`), before
+  any global warp, and local re-shaping aimed at it: the target smiles its own smile.
+  ``retarget=False`` runs the paper's stages exactly: GI carries the source's motion, LI gives each
+  organ the source's organ's height-to-width ratio, the elastic model balances the two.
 - ``mouth``, ``landmarker``, ``eigenfaces``, ``layout``: the mouth interior, what places the
   landmarks, the DB metric's basis and the landmarks' layout.
 - ``faces``: which faces of a target photo of several take the expression (all by default), each
@@ -56,6 +56,7 @@ if TYPE_CHECKING:
     import numpy as np
 
     from ..geometry.eigenface import Eigenfaces
+    from ..geometry.expression_shape import ExpressionShape
     from ..landmarks.layout import Layout
 
 #: the global warps (``global_warp``); the first is the default, the paper's.
@@ -208,8 +209,8 @@ class Options(Chosen):
     strength_shading : float
         A factor on the details' strength (the ERI's exponent), within :data:`STRENGTH_RANGE`.
     retarget : bool
-        Make the source's motion the target's before the global and local stages
-        (:mod:`exprclone.geometry.retarget`); False: the paper's stages.
+        Make the source's expression the target's own before the global and local stages
+        (:mod:`exprclone.geometry.expression_shape`); False: the paper's stages.
     eigenfaces : Eigenfaces or None
         The DB metric's basis; None for the packaged one.
     faces : str or tuple of int
@@ -217,6 +218,10 @@ class Options(Chosen):
         (:mod:`exprclone.pipeline.group`): ``"all"``, ``"largest"``, or their numbers from 1 in reading order.
     layout : Layout or None
         The landmarks' layout; None for dlib's 68 points (:data:`~exprclone.landmarks.layout.DLIB68`).
+    expression_shape : ExpressionShape or None
+        How a face's neutral shape makes the expression (:mod:`exprclone.geometry.expression_shape`), for
+        ``retarget``; None for the model shipped. ``exprclone evaluate --held-out`` gives models learnt without the
+        people it clones.
 
     See Also
     --------
@@ -369,14 +374,16 @@ class Options(Chosen):
     retarget: bool = option(
         True,
         switch(
-            "make the source's motion the target's: cleaned, each organ keeping the target's own shape; false runs the"
-            " paper's global and local stages, the source's motion as it is and its own organ shapes",
-            "run the paper's global and local stages as they are: the source's motion uncleaned, and its own organ shapes",
+            "make the source's expression the target's own: as the target's face makes it, learnt from real faces (not in"
+            " the paper); false runs the paper's stages exactly (GI carries the source's motion, LI gives each organ the"
+            " source organ's height-to-width ratio, the elastic model balances them)",
+            "run the paper's stages exactly: GI carries the source's motion as it is, LI gives each organ the source organ's"
+            " height-to-width ratio, and the elastic model balances the two (lambda_k by the DB metric)",
             flag="--no-retarget",
             page=Page(
                 "the target's own smile (unchecked: the paper's stages)",
-                "The source's motion fitted to the target's own mouth and eyes, their shapes kept; unchecked, it is"
-                " carried over as the paper does.",
+                "The source's expression made as the target's own face makes it, learnt from real faces; unchecked, the"
+                " paper's stages carry the source's motion and its organs' shapes.",
                 "transfer",
             ),
         ),
@@ -404,6 +411,9 @@ class Options(Chosen):
         ),
     )
     layout: Layout | None = option(None, Spec("the landmarks' layout", given, surfaces=frozenset()))
+    expression_shape: ExpressionShape | None = option(
+        None, Spec("how a face's neutral shape makes the expression, for retarget (the model shipped if None)", given, surfaces=frozenset())
+    )
 
     def __post_init__(self) -> None:
         super().__post_init__()

@@ -13,8 +13,8 @@ runs is read from its row of :data:`exprclone.methods.TABLE`; how its stages run
 Lewis's RBF transfer, or landmarks given by any other method, which the elastic model
 refines as in the paper's Figs. 19-21), which image warp gives FI, how much of the
 expression is transferred (:mod:`exprclone.geometry.weights`), and whether the source's motion
-is first made the target's (:mod:`exprclone.geometry.retarget`, not in the paper;
-``retarget=False`` runs the paper's global and local stages).
+is first made as the target's own face makes it (:mod:`exprclone.geometry.expression_shape`, not in the
+paper; ``retarget=False`` runs the paper's stages).
 """
 
 from __future__ import annotations

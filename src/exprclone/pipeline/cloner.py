@@ -137,7 +137,7 @@ class Cloner:
         """
         chosen = lookup(methods or (self.options.method,))
         faces, options = self.faces, self.options
-        expression = stages.expression(faces, source_expression, source_expression_points, options.lambda_k, options.retarget, crop)
+        expression = stages.expression(faces, source_expression, source_expression_points, options, crop)
         if not any(m.eri for m in chosen):
             return Prepared(
                 faces, options, self.transfer, chosen, expression, stages.shapes(faces, options, expression, _shapes(chosen)), None
@@ -157,7 +157,7 @@ class Cloner:
         options = dataclasses.replace(self.options, lambda_k="auto")
         chosen = []
         for frame, p in zip(frames, points):
-            expression = stages.expression(self.faces, frame, p, "auto", options.retarget, None)
+            expression = stages.expression(self.faces, frame, p, options, None)
             chosen.append(stages.shapes(self.faces, options, expression, {"elastic"})["elastic"].lambda_k)
         return float(np.median(np.array(chosen, float)))
 

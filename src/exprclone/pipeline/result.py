@@ -65,8 +65,17 @@ class CloneResult:
     ('e+md', (1350, 1350, 3), 'uint8')
     >>> sorted(result.landmarks)
     ['elastic', 'final', 'global', 'local', 'source_expression', 'source_neutral', 'target_neutral']
-    >>> result.db_curve.best == result.lambda_k, result.eri.shape, result.muscle_strengths.shape
-    (True, (1350, 1350), (12,))
+    >>> result.eri.shape, result.muscle_strengths.shape
+    ((1350, 1350), (12,))
+
+    The product's stages give local re-shaping the target's own face (``retarget``): LI is GI, and lambda_k has nothing to
+    balance; the paper's stages choose it by the DB metric:
+
+    >>> result.lambda_k, result.db_curve
+    (0.0, None)
+    >>> paper = exprclone.clone(data.photo("126"), data.photo("126", "smile"), data.photo("003"), retarget=False)
+    >>> paper.db_curve.best == paper.lambda_k
+    True
     """
 
     image: np.ndarray

@@ -17,11 +17,14 @@ import numpy as np
 
 from ..geometry import db_metric, eigenface, elastic, global_warp, local_warp
 from ..geometry.eigenface import default_eigenfaces
-from ..geometry.retarget import clean, organ_reference
-from ..landmarks import lips
+from ..geometry.expression_shape import default_model
+from ..landmarks import align, lips
 from ..methods import SHAPES
 from ..options import Options
 from .faces import Faces
+
+#: LI this close to GI (pixels) is GI: the elastic model has nothing to balance, and the DB metric nothing to choose.
+SAME = 1e-6
 
 
 @dataclass(frozen=True)
@@ -38,11 +41,12 @@ class SourceExpression:
         The lambda_k asked for.
     moving : ndarray of shape (N, 2)
         The landmarks whose motion from the source's neutral ones the global warps carry:
-        ``points`` (the paper), or that motion cleaned (:func:`exprclone.geometry.retarget.clean`).
+        ``points`` (the paper), or the motion the target's own face makes of it, carried back to the source's frame
+        (:meth:`exprclone.geometry.expression_shape.ExpressionShape.transfer`).
     organs : ndarray of shape (N, 2)
         What local re-shaping gives each organ the height-to-width ratio of (Eqs. 1-2):
-        ``points``, the source's own organs (the paper), or the target's organs moved by
-        the source (:func:`exprclone.geometry.retarget.organ_reference`).
+        ``points``, the source's own organs (the paper), or the target's own face so moved (then LI is GI: the
+        elastic model has nothing to balance).
     still : ndarray of shape (N, 2)
         ``points`` with the head's motion removed, in the neutral photo's frame
         (:func:`exprclone.geometry.global_warp.remove_head_motion`): what the ERI's gate and the MD model measure.
@@ -99,6 +103,8 @@ def local_stage(faces: Faces, options: Options, expression: SourceExpression, sh
 def elastic_stage(faces: Faces, options: Options, expression: SourceExpression, shapes: dict[str, Shape]) -> Shape:
     """The elastic model's balance of GI and LI, Eqs. (3)-(6), lambda_k given or chosen by the DB metric, Eqs. (7)-(8)."""
     gl, local = shapes["global"].points, shapes["local"].points
+    if expression.lambda_k == "auto" and np.abs(local - gl).max() < SAME:  # every lambda_k gives GI: nothing to choose
+        return Shape(gl, 0.0)
     if expression.lambda_k != "auto":
         chosen = float(expression.lambda_k)
         return Shape(elastic.elastic_landmarks(gl, local, faces.neighbours, chosen), chosen)
@@ -120,18 +126,28 @@ SHAPE_STAGES: dict[str, Callable[[Faces, Options, SourceExpression, dict[str, Sh
 
 
 def expression(
-    faces: Faces, image: np.ndarray, points: np.ndarray, lambda_k: float | str, retarget: bool, crop: np.ndarray | None
+    faces: Faces,
+    image: np.ndarray,
+    points: np.ndarray,
+    options: Options,
+    crop: np.ndarray | None,
 ) -> SourceExpression:
-    """One source expression, prepared for the shape stages: with ``retarget``, its motion cleaned and the organs
-    local re-shaping aims at made the target's (:mod:`exprclone.geometry.retarget`); without, the paper's (its own
-    points). ``crop`` is its eye-aligned crop if the caller has made it (:attr:`SourceExpression.crop`)."""
-    points = lips.uncross(points, faces.layout)
-    still = global_warp.remove_head_motion(faces.s_neu, points, faces.layout)
-    if not retarget:
-        return SourceExpression(image, points, lambda_k, points, points, still, crop)
-    cleaned = clean(faces.s_neu, points, faces.layout, still)
-    organs = organ_reference(faces.s_neu, cleaned, faces.t_neu, faces.layout)
-    return SourceExpression(image, points, lambda_k, cleaned, organs, still, crop)
+    """One source expression, prepared for the shape stages: with the options' ``retarget``, its motion made as the
+    target's own face makes it (:meth:`exprclone.geometry.expression_shape.ExpressionShape.transfer`, by the options'
+    ``expression_shape`` or the model shipped), carried by the global warps and aimed at by local re-shaping; without,
+    the paper's (its own points). ``crop`` is its eye-aligned crop if the caller has made it
+    (:attr:`SourceExpression.crop`)."""
+    layout = faces.layout
+    points = lips.uncross(points, layout)
+    still = global_warp.remove_head_motion(faces.s_neu, points, layout)
+    if not options.retarget:
+        return SourceExpression(image, points, options.lambda_k, points, points, still, crop)
+    model = options.expression_shape or default_model()
+    motion = model.transfer(faces.s_neu, still - faces.s_neu, faces.t_neu, layout)
+    linear = align.fit_similarity(faces.s_neu, faces.t_neu)[:, :2]  # how the global warp carries a motion to the target
+    # the motion in the source's frame that the global warp carries there (with no head motion of its own to remove)
+    moving = global_warp.remove_head_motion(faces.s_neu, faces.s_neu + motion @ np.linalg.inv(linear).T, layout)
+    return SourceExpression(image, points, options.lambda_k, moving, faces.t_neu + (moving - faces.s_neu) @ linear.T, still, crop)
 
 
 def shapes(faces: Faces, options: Options, expression: SourceExpression, wanted: set[str]) -> dict[str, Shape]:
