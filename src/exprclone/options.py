@@ -23,7 +23,9 @@ The options (beyond the method of Fig. 11 and its lambda_k):
   from. ``similarity`` is the paper's (Liu et al.: the source's motion rotated and
   scaled into the target by one similarity); ``rbf`` carries each landmark's motion by
   the local Jacobian of a radial-basis-function map between the two neutral faces (Seol
-  and Lewis, the paper's Figs. 19-20; :func:`exprclone.geometry.global_warp.rbf_landmarks`).
+  and Lewis, the paper's Figs. 19-20; :func:`exprclone.geometry.global_warp.rbf_landmarks`); ``vtc`` makes each
+  vertex tent of the landmark mesh change as the source's does (Song et al.'s vertex-tent-coordinate transfer, on
+  which the paper's Fig. 17 puts its elastic model; :func:`exprclone.geometry.vtc.vtc_landmarks`).
 - ``global_landmarks``: GI given from outside, the result of any other method, which the
   elastic model then refines (the paper's Fig. 21).
 - ``image_warp``: how the photo follows its landmarks: ``mesh``, the piecewise-affine
@@ -75,7 +77,7 @@ if TYPE_CHECKING:
     from .landmarks.layout import Layout
 
 #: the global warps (``global_warp``); the first is the default, the paper's.
-GLOBAL_WARPS = ("similarity", "rbf")
+GLOBAL_WARPS = ("similarity", "rbf", "vtc")
 #: the global stage's name when GI is given (``global_landmarks``).
 GIVEN = "given"
 #: the image warps (``image_warp``); the first is the default, the paper's.
@@ -395,8 +397,9 @@ class Options(Chosen):
     global_warp: str = option(
         GLOBAL_WARPS[0],
         Spec(
-            "how the source's motion reaches the target (GI): similarity, the paper's, or rbf, by the local Jacobian of a"
-            " radial-basis-function map between the two neutral faces (Seol and Lewis; Figs. 19-20)",
+            "how the source's motion reaches the target (GI): similarity, the paper's; rbf, by the local Jacobian of a"
+            " radial-basis-function map between the two neutral faces (Seol and Lewis; Figs. 19-20); or vtc, each vertex"
+            " tent of the landmark mesh changed as the source's (Song et al.; Fig. 17)",
             _one_of(GLOBAL_WARPS),
             choices=GLOBAL_WARPS,
         ),

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import exprclone
-from exprclone.geometry import elastic, global_warp, local_warp
+from exprclone.geometry import elastic, global_warp, local_warp, vtc
 from exprclone.imaging import piecewise, warpers
 from exprclone.landmarks import align, lips
 from exprclone.landmarks.backends import default_detector
@@ -72,16 +72,21 @@ def test_no_expression_leaves_the_target_as_it_was(pair):
     assert not np.allclose(r.landmarks["final"], tn_lm)
 
 
-@pytest.mark.parametrize("warp_name", ["similarity", "rbf"])
+@pytest.mark.parametrize("warp_name", ["similarity", "rbf", "vtc"])
 def test_without_retargeting_the_shape_stages_are_the_papers(pair, warp_name):
     """``retarget=False``: GI carries the source's own motion, LI gives each organ the source's own shape (Eqs. 1-2), and
     the elastic model balances the two (Eqs. 3-6), each stage exactly as its function of the paper computes it."""
     images, landmarks = pair
     s_neu, s_exp, t_neu = (lips.uncross(p, DLIB68) for p in landmarks)
-    carry = dict(similarity=global_warp.global_landmarks, rbf=global_warp.rbf_landmarks)[warp_name]
+    neighbours = piecewise.build_mesh(t_neu, images[2].shape, DLIB68).neighbours()
+    tents = vtc.Tents.of(t_neu, neighbours)
+    carry = dict(
+        similarity=global_warp.global_landmarks,
+        rbf=global_warp.rbf_landmarks,
+        vtc=lambda sn, se, tn, layout: vtc.vtc_landmarks(sn, se, tn, layout, tents),
+    )[warp_name]
     gi = carry(s_neu, s_exp, t_neu, DLIB68)
     li = local_warp.local_landmarks(gi, s_exp, DLIB68)
-    neighbours = piecewise.build_mesh(t_neu, images[2].shape, DLIB68).neighbours()
     paper = {"global": gi, "local": li, "elastic": elastic.elastic_landmarks(gi, li, neighbours, 1.0)}
     for retarget in (False, True):
         r = exprclone.clone(*images, method="elastic", lambda_k=1.0, landmarks=landmarks, global_warp=warp_name, retarget=retarget)
@@ -156,14 +161,15 @@ def test_other_global_landmarks_are_refined_by_the_elastic_model(pair, results):
     assert not np.allclose(given["elastic"].landmarks["elastic"], gi)  # moved towards its own LI
 
 
-def test_the_rbf_global_warp_runs_every_method(pair, results):
+@pytest.mark.parametrize("warp_name", ["rbf", "vtc"])
+def test_another_global_warp_runs_every_method(pair, results, warp_name):
     images, landmarks = pair
-    rbf = exprclone.clone_methods(*images, landmarks=landmarks, global_warp="rbf")
-    for method, r in rbf.items():
-        assert r.image.shape == images[2].shape and r.options.global_warp == "rbf", method
-    assert not np.allclose(rbf["global"].landmarks["global"], results["global"].landmarks["global"])
-    # local re-shaping starts from the RBF GI, and the DB metric measures against it
-    assert np.array_equal(rbf["e+md"].landmarks["global"], rbf["global"].landmarks["global"])
+    other = exprclone.clone_methods(*images, landmarks=landmarks, global_warp=warp_name)
+    for method, r in other.items():
+        assert r.image.shape == images[2].shape and r.options.global_warp == warp_name, method
+    assert not np.allclose(other["global"].landmarks["global"], results["global"].landmarks["global"])
+    # local re-shaping starts from the other GI, and the DB metric measures against it
+    assert np.array_equal(other["e+md"].landmarks["global"], other["global"].landmarks["global"])
 
 
 def test_the_tps_image_warp_takes_the_same_geometry(pair, results):

@@ -32,7 +32,12 @@ CELL = 320
 #: the methods Figs. 19-21 show: the global warp's result, and the elastic model on it (no MD: the paper's target had no texture).
 FIG19 = ("global", "elastic")
 #: how each global warp is named in Figs. 19-21's panel (b).
-GLOBAL_NAMES = {"similarity": "similarity (Liu et al.)", "rbf": "RBF (Seol and Lewis)", GIVEN: "given landmarks"}
+GLOBAL_NAMES = {
+    "similarity": "similarity (Liu et al.)",
+    "rbf": "RBF (Seol and Lewis)",
+    "vtc": "VTC (Song et al.)",
+    GIVEN: "given landmarks",
+}
 FIG13 = (
     ("local", "global"),
     ("elastic", "global"),

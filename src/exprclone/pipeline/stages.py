@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import db_metric, eigenface, elastic, global_warp, local_warp
+from ..geometry import db_metric, eigenface, elastic, global_warp, local_warp, vtc
 from ..geometry.eigenface import default_eigenfaces
 from ..geometry.retarget import clean, organ_reference
 from ..landmarks import lips
@@ -80,8 +80,13 @@ def rbf_warp(faces: Faces, expression: Expression) -> np.ndarray:
     return global_warp.rbf_landmarks(faces.s_neu, expression.moving, faces.t_neu, faces.layout, faces.rbf_jacobians)
 
 
+def vtc_warp(faces: Faces, expression: Expression) -> np.ndarray:
+    """GI of Song et al.: each vertex tent's change made the target's (:func:`exprclone.geometry.vtc.vtc_landmarks`)."""
+    return vtc.vtc_landmarks(faces.s_neu, expression.moving, faces.t_neu, faces.layout, faces.tents)
+
+
 #: the global warps by name (:data:`exprclone.options.GLOBAL_WARPS`), each ``(faces, expression) -> GI landmarks``.
-GLOBAL_WARPERS: dict[str, Callable[[Faces, Expression], np.ndarray]] = {"similarity": similarity_warp, "rbf": rbf_warp}
+GLOBAL_WARPERS: dict[str, Callable[[Faces, Expression], np.ndarray]] = {"similarity": similarity_warp, "rbf": rbf_warp, "vtc": vtc_warp}
 
 
 def global_stage(faces: Faces, options: Options, expression: Expression, shapes: dict[str, Shape]) -> Shape:
