@@ -68,7 +68,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 from .errors import ExprCloneError, quoted
 from .landmarks.backends import DEFAULT, LANDMARKERS, Landmarker
-from .methods import METHODS
+from .methods import BY_NAME, METHODS, Method
 
 if TYPE_CHECKING:
     import numpy as np
@@ -357,10 +357,12 @@ class Options(Chosen):
     >>> Options(method="x")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    exprclone.errors.ExprCloneError: method: unknown method 'x'; choose one of: global, local, elastic, ..., e+md
+    exprclone.errors.ExprCloneError: method: unknown method 'x'; choose one of: global, local, elastic, ..., song
     """
 
-    method: str = option("e+md", Spec("the method of the paper's Fig. 11", _one_of(METHODS), choices=METHODS))
+    method: str = option(
+        "e+md", Spec("the method: one of the paper's Fig. 11, or song, Song et al.'s (Figs. 16-17)", _one_of(METHODS), choices=METHODS)
+    )
     lambda_k: float | str = option(
         "auto",
         Spec(
@@ -485,11 +487,29 @@ class Options(Chosen):
         super().__post_init__()
         if self.global_landmarks is not None and self.global_warp != GLOBAL_WARPS[0]:
             raise ExprCloneError("global_landmarks", f"given landmarks replace the global warp; drop global_warp={self.global_warp!r}")
+        own = BY_NAME[self.method].warp  # a method with a global warp of its own (Song et al.'s) takes no other GI
+        said = f"method {self.method} warps by its own global warp, {own}"
+        if own is not None and self.global_landmarks is not None:
+            raise ExprCloneError("global_landmarks", f"{said}; drop the given landmarks")
+        if own is not None and self.global_warp not in (GLOBAL_WARPS[0], own):
+            raise ExprCloneError("global_warp", f"{said}; drop global_warp={self.global_warp!r}")
 
     @property
     def global_stage(self) -> str:
         """The global warp that gives GI: :data:`GIVEN` when its landmarks are given, else ``global_warp``."""
         return GIVEN if self.global_landmarks is not None else self.global_warp
+
+    def ran_by(self, method: Method) -> Options:
+        """These options as ``method`` ran with them (a result's): its name, and its own global warp, if it has one
+        (:attr:`exprclone.methods.Method.warp`), in place of the global stage's; the same value when nothing changes.
+
+        >>> Options(global_warp="rbf").ran_by(BY_NAME["song"])
+        Options(method='song', global_warp='vtc')
+        """
+        changes: dict[str, Any] = {} if self.method == method.name else {"method": method.name}
+        if method.warp is not None and self.global_stage != method.warp:
+            changes.update(global_warp=method.warp, global_landmarks=None)
+        return dataclasses.replace(self, **changes) if changes else self
 
     @property
     def region_strengths(self) -> dict[str, float]:

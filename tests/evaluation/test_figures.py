@@ -5,7 +5,7 @@ import pytest
 
 from exprclone.evaluation import figures
 from exprclone.geometry.db_metric import DBCurve
-from exprclone.methods import METHODS
+from exprclone.methods import FIG11
 from exprclone.pipeline.clone import CloneResult
 
 CELL, BAR = figures.CELL, 24  # the caption bar's height
@@ -20,13 +20,13 @@ def panel(sheet, row, column):
 def drawn(pair_points):
     """Results of flat grey, one shade per method (e+md the same as elastic+eri), and a DB curve with its minimum at 1.5."""
     (sn, se, tn), shape = pair_points
-    shade = {m: 30 + 25 * k for k, m in enumerate(METHODS)}
+    shade = {m: 30 + 25 * k for k, m in enumerate(FIG11)}
     shade["e+md"] = shade["elastic+eri"]
     lambdas = np.array([0.0, 0.5, 1.0, 1.5, 3.0, np.inf])
     db = np.array([3.0, 2.6, 2.4, 2.1, 2.5, 2.9])
     curve = DBCurve(lambdas, db, db / 2, db / 2, 1.5)
     landmarks = {"target_neutral": tn, "source_expression": se}
-    results = {m: CloneResult(np.full(shape, shade[m], np.uint8), m, landmarks, db_curve=curve) for m in METHODS}
+    results = {m: CloneResult(np.full(shape, shade[m], np.uint8), m, landmarks, db_curve=curve) for m in FIG11}
     source = np.full(shape, 250, np.uint8)
     return figures.sheet(results, source), shade, curve
 
@@ -34,7 +34,7 @@ def drawn(pair_points):
 def test_fig_11_row_shows_each_method_in_its_panel_then_the_source(drawn):
     sheet, shade, _ = drawn
     assert sheet.shape == (3 * CELL, 8 * CELL, 3)
-    for column, method in enumerate(METHODS):
+    for column, method in enumerate(FIG11):
         assert (panel(sheet, 0, column) == shade[method]).all(), method
     assert (panel(sheet, 0, 7) == 250).all()
 

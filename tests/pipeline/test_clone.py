@@ -9,6 +9,7 @@ from exprclone.imaging import piecewise, warpers
 from exprclone.landmarks import align, lips
 from exprclone.landmarks.backends import default_detector
 from exprclone.landmarks.layout import DLIB68
+from exprclone.methods import BY_NAME
 
 MOUTH = list(DLIB68.mouth_outer)
 
@@ -150,7 +151,8 @@ def test_given_global_landmarks_equal_to_the_default_gi_give_the_default_result(
     given = exprclone.clone_methods(*images, landmarks=landmarks, global_landmarks=results["global"].landmarks["global"])
     for method, r in given.items():
         assert np.array_equal(r.image, results[method].image), method
-        assert r.lambda_k == results[method].lambda_k and r.options.global_stage == "given"
+        # Song et al.'s method keeps its own global warp, and says so
+        assert r.lambda_k == results[method].lambda_k and r.options.global_stage == (BY_NAME[method].warp or "given")
 
 
 def test_other_global_landmarks_are_refined_by_the_elastic_model(pair, results):
@@ -166,7 +168,7 @@ def test_another_global_warp_runs_every_method(pair, results, warp_name):
     images, landmarks = pair
     other = exprclone.clone_methods(*images, landmarks=landmarks, global_warp=warp_name)
     for method, r in other.items():
-        assert r.image.shape == images[2].shape and r.options.global_warp == warp_name, method
+        assert r.image.shape == images[2].shape and r.options.global_warp == (BY_NAME[method].warp or warp_name), method
     assert not np.allclose(other["global"].landmarks["global"], results["global"].landmarks["global"])
     # local re-shaping starts from the other GI, and the DB metric measures against it
     assert np.array_equal(other["e+md"].landmarks["global"], other["global"].landmarks["global"])
@@ -243,3 +245,26 @@ def test_a_prepared_clone_renders_what_a_whole_clone_gives(pair, results):
     with pytest.raises(exprclone.ExprCloneError) as refused:
         prepared.render(global_warp="rbf")
     assert refused.value.subject == "global_warp" and "prepare" in refused.value.problem
+
+
+def test_song_warps_by_vtc_whatever_the_options_and_paints_its_mesh_image(pair, results):
+    """Song et al.'s method: the VTC transfer's geometry beside the others' (similarity GI here), its mesh image and the
+    mouth interior; alone as with the others."""
+    images, landmarks = pair
+    song = results["song"]
+    on_vtc = exprclone.clone(*images, method="global+eri", landmarks=landmarks, global_warp="vtc")
+    assert np.array_equal(song.landmarks["global"], on_vtc.landmarks["global"])
+    assert np.array_equal(song.landmarks["final"], on_vtc.landmarks["final"])
+    assert not np.allclose(song.landmarks["global"], results["global+eri"].landmarks["global"])
+    assert song.options.global_warp == "vtc" and song.lambda_k is None and song.muscle_mask is None
+    assert song.eri is not None and not np.array_equal(song.image, on_vtc.image)
+    alone = exprclone.clone(*images, method="song", landmarks=landmarks)
+    assert np.array_equal(alone.image, song.image)
+
+
+def test_song_takes_no_other_global_warp(pair):
+    images, landmarks = pair
+    for options, subject in ((dict(global_warp="rbf"), "global_warp"), (dict(global_landmarks=landmarks[2]), "global_landmarks")):
+        with pytest.raises(exprclone.ExprCloneError, match=f"^{subject}: method song warps by its own global warp, vtc; drop"):
+            exprclone.clone(*images, method="song", landmarks=landmarks, **options)
+    assert exprclone.clone(*images, method="song", landmarks=landmarks, global_warp="vtc").options.global_warp == "vtc"

@@ -135,6 +135,7 @@ def test_each_landmarker_reaches_the_api_and_the_record(client, name):
         (dict(source_expression=("s.jpg", b"")), {}, 400, "source_expression: "),
         (dict(target_neutral=("t.png", grey())), {}, 422, "target_neutral: no face found"),
         ({}, {"method": "warp"}, 400, "method: unknown method 'warp'"),
+        ({}, {"method": "song", "global_warp": "rbf"}, 400, "global_warp: method song warps by its own global warp, vtc"),
         ({}, {"lambda": "-1"}, 400, "lambda: must be 'auto' or a number >= 0"),
         ({}, {"landmarker": "hog"}, 400, "landmarker: unknown landmarker 'hog'; choose one of: dlib, mesh"),
         ({}, {"lambda": "nan"}, 400, "lambda: "),
@@ -355,6 +356,17 @@ def test_clone_with_the_transfer_options_answers_the_python_apis_image(client, s
         **{"region_strengths": regions, "strength_shading": 1.0},
     }
     image = np.asarray(Image.open(io.BytesIO(base64.b64decode(record["png"]))).convert("RGB"))
+    assert np.array_equal(image, expected.image)
+
+
+@pytest.mark.parametrize("form", [{"method": "song"}, {"method": "elastic+eri", "global_warp": "vtc", "lambda": "1"}])
+def test_song_and_its_global_warp_answer_the_python_apis_image(client, sample_images, form):
+    images, landmarks = sample_images
+    expected = exprclone.clone(*images, landmarks=tuple(landmarks), options=exprclone.Options.from_text(form))
+    r = client.post("/api/clone?format=json", files=files(), data=form)
+    assert r.status_code == 200, r.text
+    assert r.json()["options"]["global_warp"] == "vtc"
+    image = np.asarray(Image.open(io.BytesIO(base64.b64decode(r.json()["png"]))).convert("RGB"))
     assert np.array_equal(image, expected.image)
 
 

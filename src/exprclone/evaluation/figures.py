@@ -23,7 +23,7 @@ import numpy as np
 from ..errors import ExprCloneError
 from ..geometry.db_metric import DBCurve
 from ..imaging import raster
-from ..methods import FIGURES, METHODS, TABLE
+from ..methods import FIG11, FIGURES, TABLE
 from ..options import GIVEN, Options
 from ..pipeline.cloner import CloneResult
 from ..roles import SOURCE_EXPRESSION, TARGET_NEUTRAL
@@ -109,8 +109,8 @@ def sheet(results: dict[str, CloneResult], source_expression: np.ndarray) -> np.
     box = face_box(lm[TARGET_NEUTRAL], results["global"].image.shape)
     src_box = face_box(lm[SOURCE_EXPRESSION], source_expression.shape)
     crop = {m: r.image[box] for m, r in results.items()}
-    row1 = [cell(crop[m], f"({letters[m]}) {m}") for m in METHODS] + [cell(source_expression[src_box], "(h) source expression")]
-    row2 = [cell(difference(crop[m], crop["global"]), f"Fig. 12: ({letters[m]}) - (a)") for m in METHODS[1:]]
+    row1 = [cell(crop[m], f"({letters[m]}) {m}") for m in FIG11] + [cell(source_expression[src_box], "(h) source expression")]
+    row2 = [cell(difference(crop[m], crop["global"]), f"Fig. 12: ({letters[m]}) - (a)") for m in FIG11[1:]]
     row3 = [cell(difference(crop[a], crop[b]), f"Fig. 13: ({letters[a]}) - ({letters[b]})") for a, b in FIG13]
     blank = np.full((CELL, CELL, 3), 255, np.uint8)
     row2 += [blank, blank]
@@ -152,7 +152,7 @@ def figure_request(figure: str, options: Options, global_warp_asked: bool) -> tu
     if options.faces == "all":
         options = replace(options, faces="largest")
     if figure == FIGURES[0]:
-        return METHODS, options
+        return FIG11, options
     if not global_warp_asked and options.global_landmarks is None:
         options = replace(options, global_warp="rbf")
     return FIG19, options

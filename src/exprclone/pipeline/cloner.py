@@ -21,7 +21,8 @@ from typing import Any
 import numpy as np
 
 from ..details import eri, muscle
-from ..details.stage import ExpressionPhoto, Ratio, ratio_image
+from ..details.mesh_image import RATIOS
+from ..details.stage import ExpressionPhoto, Ratio
 from ..errors import ExprCloneError
 from ..geometry import db_metric
 from ..geometry.weights import Transfer
@@ -258,9 +259,9 @@ class Cloner:
         chosen = lookup(methods or (self.options.method,))
         options = self.options
         expression = stages.expression(self.faces, source_expression, source_expression_points, options.lambda_k, options.retarget, crop)
-        shapes = stages.shapes(self.faces, options, expression, {m.shape for m in chosen})
-        eri = any(m.eri for m in chosen)
-        photo = self.faces.expression_photo(expression.image, expression.points, expression.still) if eri else None
+        shapes = stages.shapes(self.faces, options, expression, chosen)
+        ratio = any(m.ratio for m in chosen)
+        photo = self.faces.expression_photo(expression.image, expression.points, expression.still) if ratio else None
         return Prepared(self, chosen, expression, shapes, photo)
 
     def clone_methods(
@@ -293,12 +294,12 @@ class Cloner:
         control, unfolded = piecewise.unfold(mesh.points, mesh.control_points(valid), mesh.triangles, mesh.n_moving, held)
         return Rendered(self.image_warp(faces.target_image, mesh.points, control, mesh), control, unfolded)
 
-    def ratio(self, target: Rendered, photo: ExpressionPhoto, transfer: Transfer) -> Ratio:
-        """The ERI and its tint: both source photos warped to the geometry of FI ``target`` (Liu et al.), scaled by
-        ``transfer``."""
+    def ratio(self, target: Rendered, photo: ExpressionPhoto, transfer: Transfer, kind: str = "eri") -> Ratio:
+        """The ERI and its tint: both source photos warped to the geometry of FI ``target`` (Liu et al.), or the mesh
+        image made of them (Song et al.: ``kind``, :data:`exprclone.details.mesh_image.RATIOS`), scaled by ``transfer``."""
         faces = self.faces
         shape = faces.target_image.shape
-        made = ratio_image(
+        made = RATIOS[kind](
             faces.mesh, target.control, shape, faces.ratio_faces, faces.source_neutral_ctrl, photo, faces.layout, self.image_warp
         )
         return Ratio(transfer.ratio(made.eri, made.box), transfer.tint(made.tint, made.box), made.box)
@@ -317,12 +318,12 @@ class Cloner:
         faces = self.faces
         final = rendered.control[: faces.mesh.n_landmarks]
         landmarks = {SOURCE_NEUTRAL: faces.s_neu, SOURCE_EXPRESSION: expression.points, TARGET_NEUTRAL: faces.t_neu}
-        landmarks.update({name: shapes[name].points for name in ("global", "local", method.shape)}, final=final)
+        landmarks.update({name: shapes[method.key(name)].points for name in ("global", "local", method.shape)}, final=final)
         if ratio is None:
             image, details = rendered.image, dict[str, Any]()
         else:
             image, details = self.details(method, expression, rendered.image, final, ratio, options.mouth, transfer)
-        shape = shapes[method.shape]
+        shape = shapes[method.stage]
         return CloneResult(
             image,
             method.name,
@@ -330,7 +331,7 @@ class Cloner:
             shape.lambda_k,
             shape.db_curve,
             unfolded_points=rendered.unfolded,
-            options=options if options.method == method.name else dataclasses.replace(options, method=method.name),
+            options=options.ran_by(method),
             **details,
         )
 
@@ -420,7 +421,7 @@ class Prepared:
     @property
     def lambda_k(self) -> float | None:
         """The elasticity ratio of its first method's shape (None for a method without the elastic model)."""
-        return self.shapes[self.methods[0].shape].lambda_k
+        return self.shapes[self.methods[0].stage].lambda_k
 
     def render(self, **changes: Any) -> dict[str, CloneResult]:
         """Each method's image, with the cloner's options or others of their cheap part (:data:`RENDER`: the strengths,
@@ -437,15 +438,14 @@ class Prepared:
         cloner = self.cloner
         options = Options.of(cloner.options, changes)
         transfer = cloner.weights(options)
-        kinds = {m.shape for m in self.methods}
+        kinds = {m.stage for m in self.methods}
         rendered = {kind: cloner.fi(self.shapes[kind].points, transfer) for kind in kinds}
-        ratios = {}
+        ratios: dict[tuple[str, str | None], Ratio] = {}
         if self.photo is not None:
-            ratios = {kind: cloner.ratio(rendered[kind], self.photo, transfer) for kind in {m.shape for m in self.methods if m.eri}}
+            made = {(m.stage, m.ratio) for m in self.methods if m.ratio is not None}
+            ratios = {(stage, kind): cloner.ratio(rendered[stage], self.photo, transfer, kind) for stage, kind in made}
         results = {
-            m.name: cloner.result(
-                m, self.expression, self.shapes, rendered[m.shape], ratios.get(m.shape) if m.eri else None, options, transfer
-            )
+            m.name: cloner.result(m, self.expression, self.shapes, rendered[m.stage], ratios.get((m.stage, m.ratio)), options, transfer)
             for m in self.methods
         }
         if self.landmarker is None and not self.warnings:

@@ -4,12 +4,14 @@ A source expression is first made ready for them (:func:`expression`): with ``re
 motion cleaned and the organs local re-shaping aims at made the target's. Each shape stage
 (:data:`SHAPE_STAGES`) then computes its landmarks from the ones before it (:func:`shapes`): the
 global stage by the global warp the options name (:data:`GLOBAL_WARPERS`, keyed by
-:attr:`exprclone.options.Options.global_warp`) unless they give GI; the elastic stage with
+:attr:`exprclone.options.Options.global_warp`) unless they give GI, or by a method's own (Song et al.'s
+VTC); the elastic stage with
 lambda_k given or chosen by the DB metric. What a user may choose is :mod:`exprclone.options`'.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -19,7 +21,7 @@ from ..geometry import db_metric, eigenface, elastic, global_warp, local_warp, v
 from ..geometry.eigenface import default_eigenfaces
 from ..geometry.retarget import clean, organ_reference
 from ..landmarks import lips
-from ..methods import SHAPES
+from ..methods import SHAPES, Method
 from ..options import Options
 from .faces import Faces
 
@@ -139,10 +141,17 @@ def expression(
     return Expression(image, points, lambda_k, cleaned, organs, still, crop)
 
 
-def shapes(faces: Faces, options: Options, expression: Expression, wanted: set[str]) -> dict[str, Shape]:
-    """The shape stages (:data:`SHAPE_STAGES`) up to the last one ``wanted``; GI and LI always."""
+def shapes(faces: Faces, options: Options, expression: Expression, methods: tuple[Method, ...]) -> dict[str, Shape]:
+    """The shape stages (:data:`SHAPE_STAGES`) that ``methods`` need, by :meth:`exprclone.methods.Method.key`: on each
+    global warp they start from (the options', or a method's own, :attr:`~exprclone.methods.Method.warp`, which
+    replaces the options' global stage), GI and LI always, and the stages up to the last of their shapes."""
     done: dict[str, Shape] = {}
-    for name in SHAPES:
-        if name in wanted | {"global", "local"}:
-            done[name] = SHAPE_STAGES[name](faces, options, expression, done)
+    for warp in dict.fromkeys(m.warp for m in methods):
+        own = [m for m in methods if m.warp == warp]
+        chosen = options if warp is None else dataclasses.replace(options, global_warp=warp, global_landmarks=None)
+        chain: dict[str, Shape] = {}
+        for name in SHAPES:
+            if name in {m.shape for m in own} | {"global", "local"}:
+                chain[name] = SHAPE_STAGES[name](faces, chosen, expression, chain)
+        done.update({own[0].key(name): shape for name, shape in chain.items()})
     return done
