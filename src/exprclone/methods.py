@@ -96,8 +96,10 @@ METHODS = tuple(m.name for m in TABLE)
 #: the seven methods of Fig. 11, in its order.
 FIG11 = tuple(m.name for m in TABLE if m.panel)
 #: the paper's figures that compare methods (``exprclone compare --figure``): Fig. 11 (with Figs. 12-13), the seven
-#: methods; Fig. 19 (with Figs. 20-21), the elastic model on the result of another global warp.
-FIGURES = ("11", "19")
+#: methods; Fig. 16, E+MD beside global warping + ERI, Song et al.'s method and elastic + ERI; Fig. 17, Song et al.'s
+#: method beside elastic + ERI and E+MD on its global warp; Fig. 19 (with Figs. 20-21), the elastic model on the
+#: result of another global warp.
+FIGURES = ("11", "16", "17", "19")
 BY_NAME = {m.name: m for m in TABLE}
 
 

@@ -110,6 +110,13 @@ def test_compare_answers_the_sheet(client):
     assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (8 * 320, 3 * 320)
 
 
+def test_compare_answers_figure_17_on_song_et_als_global_warp_alone(client):
+    r = client.post("/api/compare", files=files(), data={"figure": "17"})
+    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (7 * 320, 320)
+    r = client.post("/api/compare", files=files(), data={"figure": "17", "global_warp": "rbf"})
+    assert r.status_code == 400 and r.json()["error"].startswith("global_warp: Fig. 17 shows the methods on Song et al.'s global warp")
+
+
 def test_landmarks_of_one_photo(client):
     r = client.post("/api/landmarks", files={"photo": ("p.jpg", samples.path("001").read_bytes())})
     found = r.json()

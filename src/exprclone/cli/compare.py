@@ -1,4 +1,5 @@
-"""``exprclone compare``: every method of Fig. 11 on one triple of photos, as the sheet of Figs. 11-13; or Figs. 19-21."""
+"""``exprclone compare``: every method of Fig. 11 on one triple of photos, as the sheet of Figs. 11-13; or Figs. 16-17, or
+19-21."""
 
 from __future__ import annotations
 
@@ -18,13 +19,14 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         "--figure",
         choices=FIGURES,
         default=FIGURES[0],
-        help="11: the seven methods, Figs. 12-13's differences and the DB curve (default); 19: the elastic model on the"
+        help="11: the seven methods, Figs. 12-13's differences and the DB curve (default); 16: E+MD beside Song et al.'s"
+        " method; 17: the elastic model and E+MD on Song et al.'s global warp (vtc); 19: the elastic model on the"
         " RBF transfer's result (Figs. 19-20), or on --global-landmarks from another method (Fig. 21)",
     )
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..evaluation.figures import draw, figure_request, one_face
+    from ..evaluation.figures import draw, figure_request, one_face, summary
     from ..io.images import check_output_path, save_image
 
     paths = source_photos(args)
@@ -33,6 +35,4 @@ def run(args: argparse.Namespace) -> None:
     methods, options = figure_request(args.figure, inputs.options, args.global_warp is not None)
     results = replace(inputs, options=options).clone(methods)
     save_image(args.output, draw(args.figure, results, inputs.images), inputs=paths)
-    results, _ = one_face(results, inputs.images)
-    shown = f"{len(methods)} methods" if len(methods) > 2 else f"the elastic model on global warp {results['global'].options.global_stage}"
-    print(f"{args.output}: Fig. {args.figure}, {shown}, lambda_k={results['elastic'].lambda_k:g}")
+    print(f"{args.output}: {summary(args.figure, one_face(results, inputs.images)[0])}")
