@@ -1,3 +1,4 @@
+import pickle
 import tracemalloc
 
 import numpy as np
@@ -116,3 +117,10 @@ def test_a_mesh_in_parts_is_refused():
     rings = [np.array([1, 2]), np.array([0, 2]), np.array([0, 1]), np.array([4, 5]), np.array([3, 5]), np.array([3, 4])]
     with pytest.raises(ValueError, match="2 parts"):
         vtc.Tents.of(points, rings)
+
+
+def test_the_tents_travel_to_another_process(faces):
+    """Pickled (a prepared clone sent to a worker), the tents are made again: the factor SciPy cannot pickle with them."""
+    sn, se, tn, tents = faces
+    again = pickle.loads(pickle.dumps(tents))
+    assert np.array_equal(again.solve(again.maps(sn, se), [0], tn[:1]), tents.solve(tents.maps(sn, se), [0], tn[:1]))

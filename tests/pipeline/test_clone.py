@@ -268,3 +268,15 @@ def test_song_takes_no_other_global_warp(pair):
         with pytest.raises(exprclone.ExprCloneError, match=f"^{subject}: method song warps by its own global warp, vtc; drop"):
             exprclone.clone(*images, method="song", landmarks=landmarks, **options)
     assert exprclone.clone(*images, method="song", landmarks=landmarks, global_warp="vtc").options.global_warp == "vtc"
+
+
+def test_a_prepared_clone_on_vtc_travels_to_another_process(pair):
+    """The server sends prepared clones between processes: one on the VTC warp (its tents' factor is SciPy's, which
+    cannot be pickled) renders there as here."""
+    import pickle
+
+    images, landmarks = pair
+    prepared = exprclone.prepare(*images, ("song", "e+md"), landmarks=landmarks, global_warp="vtc")
+    here = prepared.render(strength=0.5)
+    there = pickle.loads(pickle.dumps(prepared)).render(strength=0.5)
+    assert all(np.array_equal(here[m].image, there[m].image) for m in here)

@@ -408,7 +408,7 @@ def test_compare_draws_figure_19(client):
         ({}, {"strength": "strong"}, "strength: "),
         ({}, {"only": "nose"}, "only: unknown region 'nose'"),
         ({}, {"retarget": "perhaps"}, "retarget: "),
-        ({}, {"figure": "12"}, "figure: must be 11 or 19"),
+        ({}, {"figure": "12"}, "figure: must be 11 or 16 or 17 or 19"),
         (dict(global_landmarks=("gi.json", b"[[1, 2]]")), {}, "global_landmarks: found 1 landmarks, expected 68"),
         (dict(global_landmarks=("gi.txt", b"[]")), {}, "global_landmarks: a landmark file must be .json or .tem"),
         (dict(global_landmarks=("gi.tem", samples.template("003").read_bytes())), {"global_warp": "rbf"}, "global_landmarks: given"),

@@ -43,7 +43,7 @@ facial expression analogy", IEEE Trans. Multimedia 9(7), 2007 (the paper's [2]).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Final
 
@@ -67,14 +67,18 @@ class Tents:
 
     Attributes
     ----------
+    target : ndarray of shape (N, 2)
+        The target's neutral landmarks.
     centre, rim : ndarray of shape (E,)
         Each tent edge's apex ``i`` and its one-ring neighbour ``j``: tent ``i`` is the edges whose ``centre`` is ``i``.
     system : scipy.sparse.csr_matrix of shape (2 N, N)
         ``A`` of Eq. (V3).
     factor : scipy.sparse.linalg.SuperLU
-        ``A^T A`` with vertex 0 held (its translation), factorised.
+        ``A^T A`` with vertex 0 held (its translation), factorised. It cannot be pickled: a pickled :class:`Tents` is
+        made again from its edges where it is unpickled (a prepared clone sent to another process).
     """
 
+    target: np.ndarray
     centre: np.ndarray
     rim: np.ndarray
     system: scipy.sparse.csr_matrix
@@ -82,14 +86,18 @@ class Tents:
 
     @classmethod
     def of(cls, target_neutral: np.ndarray, neighbours: Sequence[np.ndarray]) -> Tents:
-        """The tents of ``target_neutral`` (``(N, 2)``), vertex ``i``'s one-ring ``neighbours[i]``.
+        """The tents of ``target_neutral`` (``(N, 2)``), vertex ``i``'s one-ring ``neighbours[i]``."""
+        centre = np.repeat(np.arange(len(target_neutral)), [len(ring) for ring in neighbours])
+        return cls.of_edges(target_neutral, centre, np.concatenate(neighbours).astype(int))
+
+    @classmethod
+    def of_edges(cls, target_neutral: np.ndarray, centre: np.ndarray, rim: np.ndarray) -> Tents:
+        """The tents of ``target_neutral`` whose edges are ``(centre, rim)`` (:attr:`centre`, :attr:`rim`).
 
         Each tent's row block of ``A`` holds ``P_i = E_i^T+`` (Eq. V2): edge ``(i, j)`` adds ``P_ij`` at ``j`` and
         takes it at ``i``. A mesh whose vertices are not all joined raises ValueError (its parts would drift apart).
         """
         n = len(target_neutral)
-        centre = np.repeat(np.arange(n), [len(ring) for ring in neighbours])
-        rim = np.concatenate(neighbours).astype(int)
         pseudo = inverse_rows(target_neutral, centre, rim, n)
         rows = np.concatenate([2 * centre, 2 * centre + 1] * 2)
         columns = np.concatenate([rim, rim, centre, centre])
@@ -99,7 +107,11 @@ class Tents:
         if joined != 1:
             raise ValueError(f"the landmark mesh falls into {joined} parts")
         held = system[:, 1:]
-        return cls(centre, rim, system, splu((held.T @ held).tocsc()))
+        return cls(target_neutral, centre, rim, system, splu((held.T @ held).tocsc()))
+
+    def __reduce__(self) -> tuple[Callable[[np.ndarray, np.ndarray, np.ndarray], Tents], tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """Pickled as what it is made of (:attr:`factor` cannot be): made again where it is unpickled."""
+        return Tents.of_edges, (self.target, self.centre, self.rim)
 
     def maps(self, neutral: np.ndarray, expression: np.ndarray) -> np.ndarray:
         """Eq. (V1): each tent's least-squares linear map from ``neutral`` to ``expression`` (``(N, 2)`` each), ``(N, 2, 2)``:
