@@ -27,8 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
-import datadir  # noqa: E402
+from exprclone.data import sets as datasets
 
 
 def pairs(data: Path, n: int) -> list[tuple[str, str]]:
@@ -103,7 +102,7 @@ def batch(data: Path, chosen: list, *extra: str, watch: int | None = None) -> tu
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--pairs", type=int, default=100)
     parser.add_argument("--loop", type=int, default=10)
     parser.add_argument("--large", type=int, default=1000)

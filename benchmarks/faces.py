@@ -30,17 +30,14 @@ from __future__ import annotations
 import argparse
 import os
 import statistics
-import sys
 import time
 from pathlib import Path
 
 import cv2
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
-import datadir  # noqa: E402
-
 import exprclone.expressions
+from exprclone.data import sets as datasets
 from exprclone.evaluation.groups import make
 from exprclone.evaluation.london import Dataset
 from exprclone.io.images import load_image
@@ -149,7 +146,7 @@ def compare_speed(london: Path, repeat: int) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--photos", type=int, default=6, help="group photos for the detectors (default: 6)")
     parser.add_argument("--repeat", type=int, default=5, help="runs of each clone (default: 5)")
     args = parser.parse_args()

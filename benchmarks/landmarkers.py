@@ -40,10 +40,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
-import datadir  # noqa: E402
-
 from exprclone import data as samples
+from exprclone.data import sets as datasets
 from exprclone.drive import tracking
 from exprclone.errors import ExprCloneError
 from exprclone.evaluation.accuracy import point_errors, region_errors, split, templates
@@ -152,7 +150,7 @@ def one_shot(runs: int) -> dict[str, list[float]]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser, holds="the folder holding london/")
+    datasets.add_argument(parser, holds="the folder holding london/")
     parser.add_argument("--runs", type=int, default=5, help="runs of the one-shot command with each landmarker")
     args = parser.parse_args()
     people = templates(Path(args.data) / "london")

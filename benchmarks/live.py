@@ -18,22 +18,18 @@ from __future__ import annotations
 import argparse
 import os
 import struct
-import sys
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-
-from browser import (
-    chromium_pages,  # noqa: E402
-    write_y4m,  # noqa: E402
+from exprclone import data as samples
+from exprclone.testing.browser import (
+    chromium_pages,
+    write_y4m,
 )
-from serving import Server  # noqa: E402
-
-from exprclone import data as samples  # noqa: E402
+from exprclone.testing.servers import Server
 
 SETTLE = 2.0
 

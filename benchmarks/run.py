@@ -1,6 +1,6 @@
 """exprclone benchmarks: medians per stage, per method, against peers, and with image size.
 
-    python benchmarks/run.py [--data ../shared/data] [--repeat 7] [--quick]
+    python benchmarks/run.py [--data ../shared/data] [--repeat 7] [--quick] [--targets]
 
 Prints, for the sample photos at 512x512 and at their full 1350x1350:
   * the median time of each stage (landmark detection of one photo, global, local,
@@ -13,6 +13,12 @@ Prints, for the sample photos at 512x512 and at their full 1350x1350:
   * Song et al.'s method against global warping + ERI, and each method of Fig. 11 on the
     VTC global warp against the same method on the paper's similarity, all in turn (issue
     54's targets: at most 50 ms more at 1350, landmarks known);
+  * at 1350x1350, issue 52's speed targets on the package's sample smile of 126 onto 003 (its
+    teeth show: e+md pastes the mouth's interior): one ``cv2.remap`` of the target photo (maps
+    precomputed), a global and an e+md clone with landmarks known, all in turn, through
+    ``exprclone.clone`` and through a ``Cloner`` made for each clone (the stages under
+    ``clone``'s role check), and the two ratios against their targets: global within 6x
+    the remap, e+md within 3x global (``--targets``: these alone);
   * our piecewise-affine warp against scikit-image's PiecewiseAffineTransform + warp on
     the same points and image, and against a bare cv2.remap with precomputed maps (the
     floor for any warp; measured in turn with ours, so both see the same load), as
@@ -39,10 +45,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
-import datadir  # noqa: E402
-
 from exprclone import METHODS, clone, clone_methods
+from exprclone.data import photo as sample_photo
+from exprclone.data import sets as datasets
 from exprclone.details import muscle
 from exprclone.geometry import db_metric, eigenface, elastic, global_warp, local_warp, vtc
 from exprclone.geometry.eigenface import default_eigenfaces
@@ -52,8 +57,9 @@ from exprclone.io.images import load_image
 from exprclone.landmarks.backends import default_detector
 from exprclone.landmarks.layout import DLIB68
 from exprclone.methods import FIG11
+from exprclone.pipeline import render
 from exprclone.pipeline import stages as stages_
-from exprclone.pipeline.cloner import Cloner
+from exprclone.pipeline.request import Request, pair
 
 
 def median_ms(fn, repeat: int) -> float:
@@ -92,12 +98,12 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
     """Each stage as clone runs it: the shape stages and the details on a Cloner's prepared faces."""
     sn_img, se_img, tn_img = images
     sn, se, tn = lms
-    cloner = Cloner(sn_img, sn, tn_img, tn)
+    cloner = pair(Request.of(sn_img, None, tn_img, landmarks=(sn, None, tn)))
     prepared = cloner.prepare(se_img, se, ("e+md",))
     expression, shapes, faces = prepared.expression, prepared.shapes, cloner.faces
     gl, lo, nb = shapes["global"].points, shapes["local"].points, faces.neighbours
     mesh, lambdas = faces.mesh, np.array(db_metric.LAMBDAS)
-    rendered = cloner.fi(shapes["elastic"].points, cloner.transfer)
+    rendered = render.fi(faces, *render.geometry(faces, shapes["elastic"].points, cloner.transfer), "mesh")
     dst = mesh.control_points(gl)
     centres, radii = muscle.areas(gl, DLIB68)
     h = np.ones(len(centres))
@@ -123,9 +129,11 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
             lambda: db_metric.choose_lambda(faces.db_target, mesh, cands, lambdas, source_crop, default_eigenfaces(), DLIB68), repeat
         ),
         "warp (full image)": median_ms(lambda: piecewise.warp(tn_img, mesh.points, dst, mesh.triangles), repeat),
-        "ERI (both source photos warped on its grid)": median_ms(lambda: cloner.ratio(rendered, prepared.photo, cloner.transfer), repeat),
+        "ERI (both source photos warped on its grid)": median_ms(
+            lambda: render.ratio(faces, rendered.control, prepared.photo, cloner.transfer, "mesh"), repeat
+        ),
         "mesh image (the ERI's on the shared mesh, warped onto FI)": median_ms(
-            lambda: cloner.ratio(rendered, prepared.photo, cloner.transfer, "mesh"), repeat
+            lambda: render.ratio(faces, rendered.control, prepared.photo, cloner.transfer, "mesh", kind="mesh"), repeat
         ),
         "MD mask (Eqs. 10-11)": median_ms(
             lambda: muscle.importance_mask(tn_img.shape[:2], centres, radii, h, muscle.mask_step(radii)), repeat
@@ -169,6 +177,50 @@ def show_against(title: str, rows: dict[str, float], peers: dict[str, str]) -> N
     print(f"\n{title}")
     for name, peer in peers.items():
         print(f"  {name:60s} {rows[name]:9.1f} ms  ({rows[name] - rows[peer]:+.1f} ms against {peer}, {rows[peer]:.1f} ms)")
+
+
+#: issue 52's speed targets: a global clone within this many remaps of the photo, e+md within this many global clones.
+GLOBAL_IN_REMAPS, EMD_IN_GLOBALS = 6.0, 3.0
+
+
+def teeth_photos() -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """The package's sample smile of 126 (it shows teeth: e+md pastes its mouth's interior, every stage runs) and the
+    neutral photos of 126 and 003, at 1350x1350, with their landmarks."""
+    images = [sample_photo("126"), sample_photo("126", "smile"), sample_photo("003")]
+    return images, [default_detector().detect(im) for im in images]
+
+
+def speed_targets(images, lms, repeat: int) -> dict[str, float]:
+    """One remap of the target photo, and global and e+md clones with landmarks known (through ``clone``, and through a
+    new ``Cloner`` each: what lies under ``clone``'s role check), in turn, 3x as many runs: the targets are ratios."""
+    tn_img, tn = images[2], lms[2]
+    mesh = piecewise.build_mesh(tn, tn_img.shape, DLIB68)
+    mx, my = piecewise.inverse_maps(mesh.points, mesh.control_points(lms[1]), mesh.triangles, tn_img.shape[:2])
+
+    def cloned(method: str):
+        return lambda: pair(Request.of(images[0], None, tn_img, landmarks=(lms[0], None, tn))).clone_methods(images[1], lms[1], (method,))
+
+    return interleaved_ms(
+        {
+            "cv2.remap of the photo": lambda: cv2.remap(tn_img, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE),
+            "global (clone)": lambda: clone(*images, method="global", landmarks=lms),
+            "e+md (clone)": lambda: clone(*images, method="e+md", landmarks=lms),
+            "global (Cloner)": cloned("global"),
+            "e+md (Cloner)": cloned("e+md"),
+        },
+        3 * repeat,
+    )
+
+
+def show_targets(rows: dict[str, float]) -> None:
+    """The two ratios of :func:`speed_targets` against their targets, through ``clone`` and through ``Cloner``."""
+    for way in ("clone", "Cloner"):
+        glob, emd = rows[f"global ({way})"], rows[f"e+md ({way})"]
+        for name, ratio, target, peer in (
+            (f"global ({way}) / remap", glob / rows["cv2.remap of the photo"], GLOBAL_IN_REMAPS, "remap"),
+            (f"e+md ({way}) / global ({way})", emd / glob, EMD_IN_GLOBALS, "global"),
+        ):
+            print(f"  {name:60s} {ratio:6.2f}x (target {target:g}x {peer}: {'met' if ratio <= target else 'NOT met'})")
 
 
 def warp_peers(images, lms, repeat: int) -> dict[str, float]:
@@ -253,12 +305,17 @@ def show(title: str, rows: dict[str, float], ratio_to: str | None = None) -> Non
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--repeat", type=int, default=7)
     parser.add_argument("--quick", action="store_true", help="skip the size sweep and the start-up timing")
+    parser.add_argument("--targets", action="store_true", help="only issue 52's speed targets at 1350x1350")
     args = parser.parse_args()
     data = Path(args.data)
     print(f"exprclone benchmarks: {os.cpu_count()} cores, median of {args.repeat} runs")
+    if args.targets:
+        rows = speed_targets(*teeth_photos(), args.repeat)
+        show("issue 52's speed targets at 1350x1350 (landmarks known), in turn, ratio to the remap", rows, "cv2.remap of the photo")
+        return show_targets(rows)
     for size in (512, 1350):
         images, lms = photos(data, size)
         show(f"stages at {size}x{size}", stages(images, lms, args.repeat))
@@ -269,6 +326,10 @@ def main() -> None:
             song_against_peers(images, lms, args.repeat),
             PEERS,
         )
+        if size == 1350:
+            rows = speed_targets(*teeth_photos(), args.repeat)
+            show("issue 52's speed targets at 1350x1350 (landmarks known), in turn, ratio to the remap", rows, "cv2.remap of the photo")
+            show_targets(rows)
         show(
             f"piecewise-affine warp at {size}x{size}, ratio to the bare remap",
             warp_peers(images, lms, args.repeat),

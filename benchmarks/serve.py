@@ -59,8 +59,7 @@ import httpx
 import numpy as np
 from PIL import Image
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
-import datadir  # noqa: E402
+from exprclone.data import sets as datasets
 
 SIZES = (512, 1350)
 CLIENTS = (1, 2, 4)
@@ -206,12 +205,13 @@ def seen(address: str, files: list[dict]) -> None:
     remembers them): a source photo's face, every face of a target photo."""
     from distributed import Client
 
+    from exprclone.io.inputs import Source
     from exprclone.landmarks.backends import DEFAULT
     from exprclone.server import work
 
-    uploads = [work.Upload(field, content) for photos in files for field, (_, content) in photos.items()]
+    uploads = [Source(field, content) for photos in files for field, (_, content) in photos.items()]
     with Client(address, timeout=60) as client:
-        client.run(lambda: [(work.faces if u.field == "target_neutral" else work.landmarks)(u, None, DEFAULT) for u in uploads])
+        client.run(lambda: [(work.faces if u.name == "target_neutral" else work.landmarks)(u, None, DEFAULT) for u in uploads])
 
 
 def on_clusters(args: argparse.Namespace) -> None:
@@ -268,7 +268,7 @@ def on_clusters(args: argparse.Namespace) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--requests", type=int, default=60)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--scheduler", action="store_true", help="the server on Dask clusters of 1 and 2 workers, against the plain server")

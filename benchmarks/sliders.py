@@ -18,19 +18,14 @@ from __future__ import annotations
 import argparse
 import os
 import statistics
-import sys
 import time
-from pathlib import Path
 
 import httpx
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-
-from browser import chromium  # noqa: E402
-from serving import Server  # noqa: E402
-
-from exprclone import data as samples  # noqa: E402
+from exprclone import data as samples
+from exprclone.testing.browser import chromium
+from exprclone.testing.servers import Server
 
 PHOTOS = {"source_neutral": samples.path("126"), "source_expression": samples.path("126", "smile"), "target_neutral": samples.path("003")}
 RENDERED = "JSON.parse(document.querySelector('img#result').dataset.rendered || '{}')"

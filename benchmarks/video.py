@@ -22,17 +22,15 @@ from __future__ import annotations
 import argparse
 import io
 import os
-import sys
 import tempfile
 import warnings
 from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
-import datadir  # noqa: E402
 from run import interleaved_ms, median_ms
 
 from exprclone import cli, drive
+from exprclone.data import sets as datasets
 from exprclone.drive import tracking
 from exprclone.drive.framing import resize_portrait
 from exprclone.io.images import load_image
@@ -80,7 +78,7 @@ def detail_steps(cloner: Cloner, frames: list, points, lambda_k: float, repeat: 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--clip", default="bbaf2n")
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args()

@@ -108,39 +108,42 @@ def write_openapi(app) -> None:
 
 def write_options(app) -> None:
     """The options' reference table (``reference/options-table.rst``), made from their one declaration
-    (:mod:`exprclone.options`): each option's name on every surface, its default and its help."""
-    from exprclone.options import Driving, Framing, Options, key, names, spec
+    (:mod:`exprclone.options`): each option's name on every surface, its default, its help (and a ``--no-X`` flag's),
+    and its words on the page."""
+    from exprclone.options import VALUES, flag, key, names, spec
 
     surfaces = {"cli": "command line", "form": "HTTP form", "json": "live", "manifest": "manifest"}
     rows = []
-    for cls in (Options, Driving, Framing):
+    for cls in VALUES:
         default = cls()
         for name in names(cls):
             option = spec(cls, name)
             if not option.surfaces:
                 continue
-            flag = option.flag or f"--{key(cls, name).replace('_', '-')}"
             value = getattr(default, name)
             where = ", ".join(text for surface, text in surfaces.items() if surface in option.surfaces and surface != "cli")
+            said = option.help + (f" (one of: {', '.join(option.choices)})" if option.choices else "")
             cells = [
                 f"``{cls.__name__}.{name}``",
-                f"``{flag}``" if "cli" in option.surfaces else "",
+                f"``{flag(cls, name)}``" + (f": {option.flag_help}" if option.flag_help else "") if "cli" in option.surfaces else "",
                 f"``{key(cls, name)}`` ({where})" if where else "",
                 "" if value is None else f"``{value!r}``",
-                option.help + (f" (one of: {', '.join(option.choices)})" if option.choices else ""),
+                said,
+                "" if option.page is None else f"**{option.page.label}**: {option.page.sentence}",
             ]
             rows.append("   * - " + "\n     - ".join(cells))
     text = "\n".join(
         [
             ".. list-table::",
             "   :header-rows: 1",
-            "   :widths: 18 16 20 10 36",
+            "   :widths: 14 16 16 8 28 18",
             "",
             "   * - Python",
             "     - command line",
             "     - field, where",
             "     - default",
             "     - what it does",
+            "     - on the page",
             *rows,
             "",
         ]

@@ -9,18 +9,24 @@ from pathlib import Path
 STEPS = (
     (
         "surfaces",
-        "command line, Python, HTTP, live, batch, study, video: each turns its input into options",
-        "cli server batch study drive",
+        "command line, Python, HTTP, live, batch, video, evaluate: each describes its inputs and options",
+        "cli server batch drive evaluation clone",
     ),
+    ("io", "the inputs gathered: files or bytes sent read into one Request (gather)", "inputs images landmarks"),
     ("options", "every option declared once: Options, Driving, Framing", "options"),
+    (
+        "pipeline",
+        "the door: the request checked, its landmarks placed, its roles checked once per photo, the Cloner made",
+        "request checks role_check group",
+    ),
     ("landmarks", "the 68 points of each photo, placed once (dlib or the face mesh) or given", "backends dlib facemesh layout align lips"),
-    ("pipeline", "prepare: the two neutral faces (Faces) and the source expression, once", "clone cloner faces stages checks"),
+    ("pipeline", "prepare: the two neutral faces (Faces) and the source expression, once", "cloner faces stages"),
     (
         "geometry",
         "GI (global warp), LI (Eqs. 1-2), the elastic model (Eqs. 3-6), lambda_k by the DB metric (Eqs. 7-8)",
         "global_warp local_warp elastic db_metric eigenface retarget",
     ),
-    ("pipeline", "render: strength and regions (weights), as often as asked", "cloner.Prepared.render"),
+    ("pipeline", "render: stages over the prepared data (strength and regions), as often as asked", "render result"),
     ("imaging", "FI: the target photo warped to the final landmarks (mesh or TPS)", "piecewise tps warpers raster"),
     ("details", "the ERI in FI's geometry, gated; the MD mask (Eqs. 9-11)", "stage eri coarse gate muscle"),
     ("mouth", "the source's mouth interior pasted into an opened mouth", "paste tone teeth illuminant camera measure"),
@@ -28,6 +34,7 @@ STEPS = (
 )
 COLOURS = {
     "surfaces": "#e8e8e8",
+    "io": "#e0efe9",
     "options": "#f3e6c4",
     "landmarks": "#d6e6f5",
     "pipeline": "#e3d7ef",

@@ -1,66 +1,28 @@
-"""A real browser for the tests: Debian's Chromium, headless, driven by Playwright (whose own browser download cannot work here)."""
+"""The tests' browser (:mod:`exprclone.testing.browser`): without Debian's Chromium a test is skipped (failed under
+EXPRCLONE_REQUIRE_ALL=1, as in CI)."""
 
 import contextlib
-import tempfile
-from pathlib import Path
 
 from conftest import need
 
-#: where Debian's chromium package puts the browser.
-CHROMIUM = Path("/usr/lib/chromium/chromium")
-#: flags for a headless Chromium as root on a machine with no network beyond loopback.
-FLAGS = [
-    "--no-sandbox",
-    "--disable-dev-shm-usage",  # a container's /dev/shm may be too small for Chromium
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    # a page in the background keeps its timers and frames (the benchmark runs two sessions at once)
-    "--disable-background-timer-throttling",
-    "--disable-renderer-backgrounding",
-    "--disable-backgrounding-occluded-windows",
-]
+from exprclone.testing import browser
+from exprclone.testing.browser import CHROMIUM, write_y4m
+
+__all__ = ["chromium", "chromium_pages", "write_y4m"]
+REASON = "needs Debian's Chromium (apt-get install -y chromium, as .ci/run does)"
 
 
 @contextlib.contextmanager
 def chromium(*extra_flags: str):
-    """A headless Chromium page; without the browser the test is skipped (failed under EXPRCLONE_REQUIRE_ALL=1, as in CI)."""
-    with chromium_pages(1, *extra_flags) as pages:
-        yield pages[0]
+    """A headless Chromium page (:func:`exprclone.testing.browser.chromium`)."""
+    need(CHROMIUM, REASON)
+    with browser.chromium(*extra_flags) as page:
+        yield page
 
 
 @contextlib.contextmanager
 def chromium_pages(count: int, *extra_flags: str):
-    """``count`` pages, each in a headless Chromium of its own (each in the foreground: none is throttled)."""
-    need(CHROMIUM, "needs Debian's Chromium (apt-get install -y chromium, as .ci/run does)")
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p, contextlib.ExitStack() as stack:
-        pages = []
-        for _ in range(count):
-            profile = stack.enter_context(tempfile.TemporaryDirectory())
-            browser = p.chromium.launch_persistent_context(
-                profile,
-                executable_path=str(CHROMIUM),
-                headless=True,
-                args=FLAGS + list(extra_flags),
-                viewport={"width": 1280, "height": 900},
-            )
-            stack.callback(browser.close)
-            pages.append(browser.pages[0] if browser.pages else browser.new_page())
+    """``count`` pages, each in a Chromium of its own (:func:`exprclone.testing.browser.chromium_pages`)."""
+    need(CHROMIUM, REASON)
+    with browser.chromium_pages(count, *extra_flags) as pages:
         yield pages
-
-
-def write_y4m(clip, path):
-    """The clip as a Y4M file, which Chromium plays as a fake camera (in a loop)."""
-    import av
-
-    with av.open(str(clip)) as container, open(path, "wb") as out:
-        stream = container.streams.video[0]
-        w, h = stream.codec_context.width, stream.codec_context.height
-        out.write(f"YUV4MPEG2 W{w} H{h} F25:1 Ip A1:1 C420jpeg\n".encode())
-        for frame in container.decode(stream):
-            out.write(b"FRAME\n" + frame.to_ndarray(format="yuv420p").tobytes())

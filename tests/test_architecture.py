@@ -34,7 +34,7 @@ RANKS = {
 OUTER = 9
 #: the rooms where the clone's options are read and handed on (a core room's functions take plain arguments, so that a
 #: ``size`` of a crop or a ``layout`` of landmarks there is another thing than the option).
-SURFACES = ("options.py", "pipeline", "drive", "cli", "server", "batch", "study", "evaluation", "expressions/__init__.py")
+SURFACES = ("options", "pipeline", "drive", "cli", "server", "batch", "study", "evaluation", "expressions/__init__.py")
 
 
 def modules() -> dict[str, Path]:
@@ -141,6 +141,31 @@ def test_the_circle_finder_finds_one():
 def test_each_room_imports_only_its_own_and_those_below():
     upward = [f"{m} -> {t}" for m, targets in graph().items() if m != "exprclone" for t in targets if rank(t) > rank(m)]
     assert upward == []
+
+
+#: the server's parts from the bottom up (FastAPI's "bigger applications"): what its routes and machinery share (its CPU
+#: work, settings, forms, answers: rank 0), its machinery (pools, jobs, limits, the live protocol), its routes, the
+#: application that mounts them.
+SERVER_RANKS = {"runtime": 1, "routers": 2, "app": 3}
+
+
+def server_rank(module: str) -> int | None:
+    """The rank of a module of :mod:`exprclone.server` among the server's parts, None for any other module."""
+    parts = module.split(".")
+    return SERVER_RANKS.get(parts[2], 0) if parts[:2] == ["exprclone", "server"] and len(parts) > 2 else None
+
+
+def test_the_servers_machinery_knows_no_route():
+    """The runtime imports nothing of the routes nor of the application; the routes nothing of the application."""
+    edges = graph()
+    upward = [
+        f"{m} -> {t}"
+        for m, targets in edges.items()
+        if server_rank(m) is not None
+        for t in targets
+        if (server_rank(t) or 0) > (server_rank(m) or 0)
+    ]
+    assert upward == [] and server_rank("exprclone.server.runtime.jobs") == 1 and server_rank("exprclone.server.work") == 0
 
 
 def test_at_most_eight_modules_beside_the_rooms():

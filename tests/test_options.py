@@ -13,7 +13,7 @@ from fastapi.testclient import TestClient
 
 from exprclone.cli.inputs import add_options, options_of
 from exprclone.errors import ExprCloneError
-from exprclone.options import RENDER, Driving, Framing, Options, from_json, from_text, key, names, offered, spec
+from exprclone.options import RENDER, SECTIONS, VALUES, Driving, Framing, Options, from_json, from_text, key, names, offered, spec
 from exprclone.server.app import add_error_answers
 from exprclone.server.forms import Asked, options_form
 
@@ -140,3 +140,40 @@ def test_text_and_json_say_which_field_is_wrong():
 def test_the_render_options_are_the_cheap_ones():
     """What a prepared clone renders again with: nothing its preparation (landmarks, lambda search, ERI inputs) uses."""
     assert set(RENDER) == {"mouth", "strength", "only", *REGION_STRENGTHS, "strength_shading"} and set(RENDER) <= set(names(Options))
+
+
+def declared():
+    """Every option offered outside Python: (its value's class, its name)."""
+    return [(cls, n) for cls in VALUES for n in names(cls) if spec(cls, n).surfaces]
+
+
+@pytest.mark.parametrize("cls, name", declared(), ids=lambda v: v if isinstance(v, str) else v.__name__)
+def test_a_switch_on_by_default_is_a_flag_that_turns_it_off_and_says_so(cls, name):
+    """``--no-mouth``'s help says what giving the flag does, not what the option does when on."""
+    option = spec(cls, name)
+    if option.kind is not bool or "cli" not in option.surfaces:
+        return
+    parser = argparse.ArgumentParser()
+    add_options(parser, cls, (name,))
+    (action,) = [a for a in parser._actions if a.dest == name]
+    if getattr(cls(), name):
+        assert action.option_strings == [f"--no-{key(cls, name).replace('_', '-')}"] and action.help == option.flag_help
+        assert getattr(options_of(parser.parse_args(action.option_strings), cls, (name,)), name) is False
+    else:
+        assert option.flag_help is None and action.help == option.help
+
+
+@pytest.mark.parametrize("cls, name", declared(), ids=lambda v: v if isinstance(v, str) else v.__name__)
+def test_a_page_offers_the_values_allowed_in_words(cls, name):
+    """A page's menu offers the values the option allows, each with a label, and each a value the option takes; a
+    slider follows an option of its own value."""
+    option, page = spec(cls, name), spec(cls, name).page
+    if page is None:
+        return
+    assert page.label and page.sentence.endswith(".") and page.section in SECTIONS
+    offered_values = [c.value for c in page.offered()]
+    if option.choices:
+        assert offered_values == list(option.choices)
+    for value in offered_values:
+        assert from_text(cls, {key(cls, name): value}) is not None and all(c.label for c in page.offered())
+    assert page.follows is None or page.follows in names(cls)

@@ -25,7 +25,7 @@ from exprclone.landmarks.layout import DLIB68
 from exprclone.options import Framing, Options, from_json
 from exprclone.pipeline.checks import check_face
 from exprclone.roles import ROLES
-from exprclone.server.protocol import FIELDS, Misuse, check_frame, parse_message
+from exprclone.server.runtime.protocol import FIELDS, Misuse, check_frame, parse_message
 
 #: how many times the cases below to draw (1, in CI: the same cases on every run).
 SCALE = int(os.environ.get("EXPRCLONE_FUZZ_SCALE", "1"))

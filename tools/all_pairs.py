@@ -25,10 +25,10 @@ import time
 import warnings
 from pathlib import Path
 
-import datadir
 import numpy as np
 
 from exprclone import METHODS, clone_methods
+from exprclone.data import sets as datasets
 from exprclone.evaluation.london import Dataset
 from exprclone.io.images import load_image
 from exprclone.landmarks.backends import default_detector
@@ -79,7 +79,7 @@ def run_pair(job):
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--limit", type=int, default=0, help="only N pairs drawn at random, seed 0 (0: all)")
     parser.add_argument("--paper-only", action="store_true", help="only the paper's setting (similarity, mesh, strength 1)")

@@ -31,10 +31,10 @@ import argparse
 import os
 from pathlib import Path
 
-import datadir
 import numpy as np
 
 from exprclone import data as samples
+from exprclone.data import sets as datasets
 from exprclone.evaluation.london import Dataset
 from exprclone.evaluation.scores import TEETH_SHOWN, teeth
 from exprclone.expressions import composite
@@ -94,7 +94,7 @@ def sample_smile(face_id: str) -> tuple[Expression, dict[str, str]]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser, "london", holds="the London Set folder")
+    datasets.add_argument(parser, "london", holds="the London Set folder")
     parser.add_argument("-o", "--out", default=str(ROOT / "src/exprclone/data/expressions"))
     parser.add_argument("--folds", type=int, default=0, help="K >= 2: each prototype K times, each made without one fold of people")
     parser.add_argument("--seed", type=int, default=0, help="how the people are dealt into folds")

@@ -24,7 +24,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-import datadir
+from exprclone.data import sets as datasets
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -74,7 +74,7 @@ def main() -> int:
     r.add_argument("output")
     r.add_argument("--ref", help="a git commit to run instead of the working tree")
     r.add_argument("--pairs", type=int, default=20)
-    datadir.add_argument(r)
+    datasets.add_argument(r)
     c = sub.add_parser("compare")
     c.add_argument("before")
     c.add_argument("after")

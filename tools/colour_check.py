@@ -77,8 +77,9 @@ import tempfile
 from pathlib import Path
 
 import cv2
-import datadir
 import numpy as np
+
+from exprclone.data import sets as datasets
 
 ROOT = Path(__file__).resolve().parents[1]
 #: share of the pixels inside the inner lips, the brightest, that stand for the interior.
@@ -600,7 +601,7 @@ def write_strip(args: argparse.Namespace) -> int:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--portraits", nargs="*", default=list(PORTRAITS))
     parser.add_argument("--clips", nargs="*", help="clip names (default: every clip in DATA/grid)")
     parser.add_argument("--size", type=int, default=512)

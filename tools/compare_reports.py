@@ -12,15 +12,11 @@ from __future__ import annotations
 
 import argparse
 import csv
-import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
-
-from exprclone.evaluation.judge import SMILING  # noqa: E402
-from exprclone.evaluation.scores import TEETH_SHOWN  # noqa: E402
+from exprclone.evaluation.judge import SMILING
+from exprclone.evaluation.scores import TEETH_SHOWN
 
 #: the scores compared: (name, how a row gives it, or None when the row does not count).
 SCORES = {

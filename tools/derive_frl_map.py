@@ -26,9 +26,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import datadir
 import numpy as np
 
+from exprclone.data import sets as datasets
 from exprclone.io.images import load_image
 from exprclone.io.landmarks import read_tem
 from exprclone.landmarks.dlib import Detector
@@ -137,7 +137,7 @@ def choose(i: int, dlib_pts: np.ndarray, tem_pts: np.ndarray, ipd: np.ndarray) -
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser, holds="the folder holding london/")
+    datasets.add_argument(parser, holds="the folder holding london/")
     args = parser.parse_args()
 
     dlib_pts, tem_pts = load_faces(args.data)

@@ -29,9 +29,9 @@ from __future__ import annotations
 import argparse
 import itertools
 
-import datadir
 import numpy as np
 
+from exprclone.data import sets as datasets
 from exprclone.evaluation.accuracy import point_errors, region_errors, split, templates
 from exprclone.io.images import load_image
 from exprclone.landmarks.facemesh import MeshDetector
@@ -131,7 +131,7 @@ def apply(table: tuple, mesh: np.ndarray) -> np.ndarray:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser, holds="the folder holding london/")
+    datasets.add_argument(parser, holds="the folder holding london/")
     args = parser.parse_args()
 
     people = templates(args.data / "london")

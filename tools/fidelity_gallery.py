@@ -30,8 +30,9 @@ import types
 from pathlib import Path
 
 import cv2
-import datadir
 import numpy as np
+
+from exprclone.data import sets as datasets
 
 ROOT = Path(__file__).resolve().parents[1]
 #: a ratio this far from 1 on a material swap is an artifact (a fifth of the ERI's clamp).
@@ -147,7 +148,7 @@ def ring_table(data: Path, ring: list[tuple[str, str]], before: Path, after: Pat
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser, "london", holds="the London Set folder")
+    datasets.add_argument(parser, "london", holds="the London Set folder")
     parser.add_argument("--scores", type=Path, help="pairs.csv of an evaluate run of the before commit")
     parser.add_argument("--before-ref", default="9950aa4")
     parser.add_argument("--worst", type=int, default=10)

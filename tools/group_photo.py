@@ -13,14 +13,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 from pathlib import Path
 
-import datadir
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
-
-from exprclone.evaluation.groups import make  # noqa: E402
+from exprclone.data import sets as datasets
+from exprclone.evaluation.groups import make
 
 #: the six people and face widths of the issue's group photo.
 PEOPLE = "039,041,043,044,045,062"
@@ -42,7 +38,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0, help="the background's (default: 0)")
     parser.add_argument("--tilts", help="each head turned in the photo's plane, degrees (default: upright)")
     parser.add_argument("--smiling", action="store_true", help="their smiling photos instead of their neutral ones")
-    datadir.add_argument(parser, holds="the folder holding london/")
+    datasets.add_argument(parser, holds="the folder holding london/")
     args = parser.parse_args()
     from exprclone.io.images import save_image
 

@@ -11,9 +11,9 @@ The offline zero-phase filter of ``exprclone video`` is the peer (no lag by cons
 
 import argparse
 
-import datadir
 import numpy as np
 
+from exprclone.data import sets as datasets
 from exprclone.drive import tracking
 from exprclone.io.video import probe, read_frames
 from exprclone.landmarks.backends import default_detector
@@ -33,7 +33,7 @@ def lag_ms(raw: np.ndarray, filtered: np.ndarray, fps: float) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--settings", nargs="*", default=[f"{tracking.ONE_EURO_MIN_CUTOFF},{tracking.ONE_EURO_BETA}"])
     args = parser.parse_args()
     tracks = {}

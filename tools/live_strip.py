@@ -10,7 +10,6 @@ WebSocket for 8 seconds, and lays out the camera frames whose mouths are most op
 
 import argparse
 import struct
-import sys
 import tempfile
 from pathlib import Path
 
@@ -18,19 +17,16 @@ import cv2
 import numpy as np
 from PIL import Image
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-
-from browser import (
-    chromium,  # noqa: E402
-    write_y4m,  # noqa: E402
+from exprclone import data as samples
+from exprclone.landmarks.backends import default_detector
+from exprclone.landmarks.layout import DLIB68
+from exprclone.mouth.measure import opening
+from exprclone.server.session import decode_jpeg
+from exprclone.testing.browser import (
+    chromium,
+    write_y4m,
 )
-from serving import Server  # noqa: E402
-
-from exprclone import data as samples  # noqa: E402
-from exprclone.landmarks.backends import default_detector  # noqa: E402
-from exprclone.landmarks.layout import DLIB68  # noqa: E402
-from exprclone.mouth.measure import opening  # noqa: E402
-from exprclone.server.session import decode_jpeg  # noqa: E402
+from exprclone.testing.servers import Server
 
 SIZE = 256
 

@@ -8,14 +8,12 @@ Starts ``exprclone serve``, opens the page in headless Chromium (tests/browser.p
 
 import argparse
 import io
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from PIL import Image
 
-from browser import chromium  # noqa: E402
-from PIL import Image  # noqa: E402
-from serving import Server  # noqa: E402
+from exprclone.testing.browser import chromium
+from exprclone.testing.servers import Server
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("-o", "--output", default=str(Path(__file__).resolve().parents[1] / "docs" / "page.jpg"))

@@ -16,10 +16,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import datadir
 import numpy as np
 from scipy.interpolate import RBFInterpolator
 
+from exprclone.data import sets as datasets
 from exprclone.evaluation.london import Dataset
 from exprclone.geometry import global_warp
 from exprclone.io.images import load_image
@@ -44,7 +44,7 @@ def left_out_error(s: np.ndarray, t: np.ndarray, smoothing: float) -> np.ndarray
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--pairs", type=int, default=300)
     parser.add_argument("--smoothing", type=float, nargs="+", default=[1e-4, 1e-3, 1e-2, 0.05, 0.1, 0.15, 0.2, 0.3, 1, 1000])
     args = parser.parse_args()

@@ -17,19 +17,16 @@ them (:data:`~exprclone.pipeline.role_check.SMILE`).
 
 import argparse
 import json
-import sys
 from pathlib import Path
 
-import datadir
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
-
-from exprclone.io.images import load_image  # noqa: E402
-from exprclone.landmarks import align  # noqa: E402
-from exprclone.landmarks.backends import default_detector  # noqa: E402
-from exprclone.landmarks.layout import DLIB68  # noqa: E402
-from exprclone.pipeline import role_check  # noqa: E402
+from exprclone.data import sets as datasets
+from exprclone.io.images import load_image
+from exprclone.landmarks import align
+from exprclone.landmarks.backends import default_detector
+from exprclone.landmarks.layout import DLIB68
+from exprclone.pipeline import role_check
 
 TEMPLATE = Path(__file__).resolve().parents[1] / "src" / "exprclone" / "data" / "neutral_face.json"
 #: the ridge regression's weight on the smile direction's norm (the even half's leave-one-out errors are fewest at it).
@@ -46,7 +43,7 @@ ORDERS = {
 }
 
 
-def load(data: Path) -> tuple[list[str], dict[str, role_check.Photo]]:
+def load(data: Path) -> tuple[list[str], dict[str, role_check.Face]]:
     """Every person's neutral (``ID_n``) and smiling (``ID_s``) photo with its detected landmarks."""
     people = sorted(p.stem[:3] for p in (data / "neutral_front").glob("*_03.jpg"))
     if not people:
@@ -55,7 +52,7 @@ def load(data: Path) -> tuple[list[str], dict[str, role_check.Photo]]:
     for i in people:
         for kind, path in (("n", data / "neutral_front" / f"{i}_03.jpg"), ("s", data / "smiling_front" / f"{i}_08.jpg")):
             image = load_image(path)
-            photos[f"{i}_{kind}"] = role_check.Photo.of(image, default_detector().detect(image, str(path)), DLIB68)
+            photos[f"{i}_{kind}"] = role_check.Face.of(image, default_detector().detect(image, str(path)), DLIB68)
     return people, photos
 
 
@@ -70,7 +67,7 @@ def mean_face(shapes: list[np.ndarray]) -> np.ndarray:
     return mean
 
 
-def learn(people: list[str], photos: dict[str, role_check.Photo]) -> tuple[np.ndarray, np.ndarray]:
+def learn(people: list[str], photos: dict[str, role_check.Face]) -> tuple[np.ndarray, np.ndarray]:
     """The mean neutral face of ``people`` and the direction their smiles move the moving landmarks from it: ``w``
     minimising ``sum (1 - w d)^2 + RIDGE |w|^2`` over each person's motion ``d`` (smile minus neutral)."""
     role_check.NEUTRAL_FACE = mean_face([photos[f"{i}_n"].points for i in people])
@@ -80,7 +77,7 @@ def learn(people: list[str], photos: dict[str, role_check.Photo]) -> tuple[np.nd
     return role_check.NEUTRAL_FACE, direction
 
 
-def judged(people: list[str], photos: dict[str, role_check.Photo], others: int) -> dict[str, list[tuple[int, bool, bool]]]:
+def judged(people: list[str], photos: dict[str, role_check.Face], others: int) -> dict[str, list[tuple[int, bool, bool]]]:
     """For each kind of mistake, (the person's place, whether it was flagged, whether the warning named the right boxes)."""
     out: dict[str, list[tuple[int, bool, bool]]] = {kind: [] for kind in [*ORDERS, "two people"]}
     for k, i in enumerate(people):
@@ -98,7 +95,7 @@ def judged(people: list[str], photos: dict[str, role_check.Photo], others: int) 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    datadir.add_argument(parser, "london", holds="the London Set folder")
+    datasets.add_argument(parser, "london", holds="the London Set folder")
     parser.add_argument("--others", type=int, default=5, help="other people's smiles per person (default: 5)")
     parser.add_argument("--write-template", action="store_true", help="write the mean neutral face and the smile's direction first")
     args = parser.parse_args()

@@ -27,21 +27,17 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
-from pathlib import Path
 
-import datadir
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
-
-from exprclone.evaluation import runner, scores, statistics  # noqa: E402
-from exprclone.evaluation.london import Dataset  # noqa: E402
-from exprclone.imaging import piecewise  # noqa: E402
-from exprclone.io.progress import Quiet  # noqa: E402
-from exprclone.landmarks import align  # noqa: E402
-from exprclone.landmarks.backends import shared  # noqa: E402
-from exprclone.landmarks.layout import DLIB68  # noqa: E402
+from exprclone.data import sets as datasets
+from exprclone.evaluation import runner, scores, statistics
+from exprclone.evaluation.london import Dataset
+from exprclone.imaging import piecewise
+from exprclone.io.progress import Quiet
+from exprclone.landmarks import align
+from exprclone.landmarks.backends import shared
+from exprclone.landmarks.layout import DLIB68
 
 #: the ERI shades a pixel below this ratio, and leaves it alone from the next up.
 SHADED, UNSHADED = 0.95, 0.98
@@ -112,7 +108,7 @@ def summary(rows: list[dict[str, float]], title: str) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser, "london", holds="the London Set folder")
+    datasets.add_argument(parser, "london", holds="the London Set folder")
     parser.add_argument("--pairs", type=int, default=80)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--method", default="global+eri")

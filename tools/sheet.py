@@ -9,10 +9,10 @@ seven methods of Fig. 11 applied to B, and B's real smile, all cropped to B's fa
 import argparse
 from pathlib import Path
 
-import datadir
 import numpy as np
 
 from exprclone import METHODS, clone_methods
+from exprclone.data import sets as datasets
 from exprclone.evaluation.figures import cell, face_box
 from exprclone.evaluation.london import Dataset
 from exprclone.io.images import load_image, save_image
@@ -21,7 +21,7 @@ from exprclone.landmarks.backends import default_detector
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--pairs", type=int, default=5)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("-o", "--output", default="out/sheet.jpg")

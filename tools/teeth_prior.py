@@ -22,9 +22,9 @@ import sys
 from pathlib import Path
 
 import cv2
-import datadir
 import numpy as np
 
+from exprclone.data import sets as datasets
 from exprclone.io.images import load_image
 from exprclone.landmarks import lips
 from exprclone.landmarks.backends import default_detector
@@ -61,7 +61,7 @@ def spread(colours: list[np.ndarray]) -> str:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--widths", type=int, nargs="*", default=list(WIDTHS))
     args = parser.parse_args()
     london, detector = args.data / "london", default_detector()

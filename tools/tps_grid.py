@@ -17,11 +17,11 @@ import statistics
 import time
 from pathlib import Path
 
-import datadir
 import numpy as np
 from scipy.interpolate import RBFInterpolator
 
 from exprclone import clone
+from exprclone.data import sets as datasets
 from exprclone.evaluation.london import Dataset
 from exprclone.imaging import piecewise, tps
 from exprclone.imaging.warpers import tps_refine
@@ -67,7 +67,7 @@ def timings(image, mesh, control, repeat: int = 5) -> tuple[float, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--pairs", type=int, default=20)
     parser.add_argument("--steps", nargs="+", default=["8,8", "8,4", "8,2", "4,4"], help="grid steps: face, mouth")
     args = parser.parse_args()

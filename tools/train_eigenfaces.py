@@ -10,15 +10,14 @@ PCA, so the basis spans expression (here: smiling) rather than identity.
 import argparse
 from pathlib import Path
 
-import datadir
-
+from exprclone.data import sets as datasets
 from exprclone.geometry.eigenface import train
 from exprclone.io.images import load_image
 from exprclone.landmarks.dlib import Detector
 from exprclone.landmarks.layout import DLIB68
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-datadir.add_argument(parser)
+datasets.add_argument(parser)
 parser.add_argument("-o", "--output", default=str(Path(__file__).parents[1] / "src/exprclone/data/eigenfaces.npz"))
 args = parser.parse_args()
 london = Path(args.data) / "london"

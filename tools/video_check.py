@@ -15,10 +15,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import datadir
 import numpy as np
 
 from exprclone import drive
+from exprclone.data import sets as datasets
 from exprclone.drive import tracking
 from exprclone.drive.framing import resize_portrait
 from exprclone.io.images import load_image
@@ -36,7 +36,7 @@ def openings(points: np.ndarray) -> np.ndarray:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--portrait", default="003")
     parser.add_argument("--size", type=int, default=256)
     parser.add_argument("--neutral-frame", default=None, help="a frame number, or closed (default: the first frame with a face)")

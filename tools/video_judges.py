@@ -48,9 +48,10 @@ import os
 from pathlib import Path
 
 import cv2
-import datadir
 import numpy as np
 from colour_check import inner_mask, lab, regions, skin_lightness, steps
+
+from exprclone.data import sets as datasets
 
 #: the teeth's yellowness (b* over the cheeks') may differ from the portrait's own real teeth by this much.
 TEETH_YELLOW = 4.0
@@ -220,7 +221,7 @@ def verdicts(row: dict) -> dict[str, bool | None]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    datadir.add_argument(parser)
+    datasets.add_argument(parser)
     parser.add_argument("--portraits", nargs="*", help="London ids (default: the three palest and the three darkest)")
     parser.add_argument("--clips", nargs="*", help="GRID clip names (default: all)")
     parser.add_argument("--size", type=int, default=512)

@@ -18,7 +18,8 @@ from .options import Options
 
 if TYPE_CHECKING:  # what type checkers see; at run time the pipeline is imported on first use (__getattr__)
     from .pipeline.clone import clone, clone_methods, prepare
-    from .pipeline.cloner import Cloner, CloneResult, FaceResult, Prepared
+    from .pipeline.cloner import Cloner, Prepared
+    from .pipeline.result import CloneResult, FaceResult
 
 __all__ = [
     "METHODS",

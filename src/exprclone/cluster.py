@@ -36,7 +36,7 @@ M_TRIM_THRESHOLD, M_MMAP_THRESHOLD, BUFFER_BYTES = -1, -3, 32 * 1024 * 1024
 def _reaching(scheduler: str) -> Iterator[ModuleType]:
     """Dask's ``distributed``, for a block that connects to ``scheduler``: its failure to, an ExprCloneError."""
     try:
-        import distributed
+        import distributed  # (Dask: an extra)
     except ImportError:
         raise ExprCloneError("--scheduler", "needs Dask: pip install 'exprclone[dask]'") from None
     try:

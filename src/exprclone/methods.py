@@ -32,6 +32,10 @@ class Method:
     name : str
     panel : str
         Its letter in Figs. 11-13; empty for a method not in them.
+    title : str
+        Its name in a person's words, as a page shows it.
+    sentence : str
+        What it does, in a person's words (a page's, the options' answer over HTTP).
     shape : str
         The landmarks it warps the target to: ``global`` (GI), ``local`` (LI) or
         ``elastic`` (the elastic model's balance of the two, Eqs. 3-8).
@@ -46,6 +50,8 @@ class Method:
 
     name: str
     panel: str
+    title: str
+    sentence: str
     shape: str
     details: tuple[str, ...] = ()
     warp: str | None = None
@@ -81,15 +87,52 @@ class Method:
         return "md" in self.details
 
 
+#: what the detail stages add, said once for the sentences below.
+_SHADING = "with the source's folds and shadows of the expression carried over"
+
 TABLE = (
-    Method("global", "a", "global"),
-    Method("local", "b", "local"),
-    Method("elastic", "c", "elastic"),
-    Method("global+eri", "d", "global", ("eri",)),
-    Method("local+eri", "e", "local", ("eri",)),
-    Method("elastic+eri", "f", "elastic", ("eri",)),
-    Method("e+md", "g", "elastic", ("eri", "md")),
-    Method("song", "", "global", ("mesh",), warp="vtc"),
+    Method(
+        "global",
+        "a",
+        "global warping",
+        "The source's motion, turned and scaled to fit the target's face as one piece: each feature moves as the source's did.",
+        "global",
+    ),
+    Method(
+        "local",
+        "b",
+        "local re-shaping",
+        "Each feature (mouth, eyes, brows) takes the shape the source's took: exact shapes, which may sit oddly on another face.",
+        "local",
+    ),
+    Method(
+        "elastic",
+        "c",
+        "elastic model",
+        "A balance of the two: each feature is pulled towards its own new shape, the face around it holding it like springs.",
+        "elastic",
+    ),
+    Method("global+eri", "d", "global + ERI", f"Global warping, {_SHADING}.", "global", ("eri",)),
+    Method("local+eri", "e", "local + ERI", f"Local re-shaping, {_SHADING}.", "local", ("eri",)),
+    Method("elastic+eri", "f", "elastic + ERI", f"The elastic model, {_SHADING}.", "elastic", ("eri",)),
+    Method(
+        "e+md",
+        "g",
+        "E+MD",
+        f"The paper's own: the elastic model, {_SHADING} where the face's muscles move and nowhere else.",
+        "elastic",
+        ("eri", "md"),
+    ),
+    Method(
+        "song",
+        "",
+        "Song et al.",
+        "Song et al.'s: each small patch of the face bends as the source's did, the source's folds and shadows of the"
+        " expression carried over as seen on a face halfway between the two people.",
+        "global",
+        ("mesh",),
+        warp="vtc",
+    ),
 )
 #: the methods' names: Fig. 11's in its order, then Song et al.'s.
 METHODS = tuple(m.name for m in TABLE)

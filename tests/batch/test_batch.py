@@ -287,7 +287,7 @@ def test_a_group_photo_in_a_manifest_has_the_faces_of_its_row_cloned(tmp_path):
     ]
     p = run(manifest(tmp_path, rows, ",faces"), "--jobs", "1", "--cache", tmp_path / "cache")
     assert p.returncode == 1, p.stderr
-    assert [r["status"] for r in report(tmp_path)] == ["done", "done", "failed"]
+    assert [r["status"] for r in report(tmp_path)] == ["done", "done", "failed"], report(tmp_path)
     assert report(tmp_path)[2]["error"].endswith("faces: no face 2: the photo shows 1 face (exprclone faces numbers them)")
     sources = (load_image(samples.path("126")), load_image(samples.path("126", "smile")))
     for name, faces in (("all.png", "all"), ("two.png", (2,))):

@@ -210,7 +210,7 @@ def test_global_landmarks_equal_to_the_default_gi_give_the_default_image(pair, t
     write_landmarks(tmp_path / "gi.json", exprclone.clone(*images, landmarks=landmarks).landmarks["global"])
     assert run("clone", SN, SE, TN, "-o", tmp_path / "default.png", *files).returncode == 0
     p = run("clone", SN, SE, TN, "-o", tmp_path / "given.png", *files, "--global-landmarks", tmp_path / "gi.json")
-    assert p.returncode == 0 and "global warp given" in p.stdout, p.stderr
+    assert p.returncode == 0 and "global landmarks given" in p.stdout, p.stderr
     assert np.array_equal(np.asarray(Image.open(tmp_path / "given.png")), np.asarray(Image.open(tmp_path / "default.png")))
 
 

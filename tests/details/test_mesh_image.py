@@ -10,7 +10,9 @@ from exprclone.imaging import piecewise
 from exprclone.imaging.warpers import IMAGE_WARPERS
 from exprclone.landmarks import align
 from exprclone.landmarks.layout import DLIB68
-from exprclone.pipeline.cloner import Cloner
+from exprclone.pipeline import render
+from exprclone.pipeline.request import Request
+from exprclone.pipeline.request import pair as cloner_of
 
 
 @pytest.fixture(scope="module")
@@ -18,10 +20,10 @@ def made(pair):
     """001's smile prepared on 003 (a real London pair) by global warping + ERI and by Song et al.'s method: the faces,
     the expression photo and FI's control points of the VTC geometry."""
     (sn, se, tn), (sn_lm, se_lm, tn_lm) = pair
-    cloner = Cloner(sn, sn_lm, tn, tn_lm, global_warp="vtc")
+    cloner = cloner_of(Request.of(sn, None, tn, landmarks=(sn_lm, None, tn_lm), global_warp="vtc"))
     prepared = cloner.prepare(se, se_lm, ("global+eri", "song"))
-    fi = cloner.fi(prepared.shapes["global"].points, cloner.transfer)
-    return cloner.faces, prepared.photo, fi.control
+    control, _ = render.geometry(cloner.faces, prepared.shapes["global"].points, cloner.transfer)
+    return cloner.faces, prepared.photo, control
 
 
 def ratios(faces, photo, dst, kind):

@@ -7,7 +7,9 @@ import exprclone
 from exprclone.landmarks.layout import DLIB68
 from exprclone.landmarks.lips import uncross
 from exprclone.mouth import measure
-from exprclone.pipeline.clone import Cloner
+from exprclone.options import Options
+from exprclone.pipeline import render
+from exprclone.pipeline.cloner import Cloner
 
 EYES_AND_BROWS = list(DLIB68.regions["eyes"] + DLIB68.regions["brows"])
 MOUTH = list(DLIB68.regions["mouth"])
@@ -58,8 +60,11 @@ def test_strength_scales_motion_and_the_eri_in_the_log_domain(pair):
     # the ERI, on one geometry: its logarithm halved
     (sn, se, tn), (sn_lm, se_lm, tn_lm) = images, landmarks
     cloner = Cloner(sn, sn_lm, tn, tn_lm)
-    rendered, photo = cloner.fi(whole.landmarks["global"], cloner.transfer), cloner.prepare(se, se_lm, ("global+eri",)).photo
-    whole_eri, half_eri = (cloner.ratio(rendered, photo, Cloner(sn, sn_lm, tn, tn_lm, strength=s).transfer) for s in (1, 0.5))
+    faces, photo = cloner.faces, cloner.prepare(se, se_lm, ("global+eri",)).photo
+    rendered = render.fi(faces, *render.geometry(faces, whole.landmarks["global"], cloner.transfer), "mesh")
+    whole_eri, half_eri = (
+        render.ratio(faces, rendered.control, photo, render.transfer(faces, Options(strength=s)), "mesh") for s in (1, 0.5)
+    )
     assert whole_eri.box == half_eri.box and (whole_eri.eri != 1).mean() > 0.05
     assert np.allclose(np.log(half_eri.eri), 0.5 * np.log(whole_eri.eri), atol=1e-5)
     assert np.abs(whole_eri.tint).max() > 0.005 and np.allclose(half_eri.tint, 0.5 * whole_eri.tint, atol=1e-6)  # its tint too

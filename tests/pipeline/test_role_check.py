@@ -12,7 +12,7 @@ from exprclone.landmarks.layout import DLIB68
 from exprclone.pipeline.role_check import (
     SAME_PERSON,
     SURELY_SAME,
-    Photo,
+    Face,
     appearance_distance,
     expressiveness,
     identity_distance,
@@ -26,7 +26,7 @@ PEOPLE = samples.PEOPLE
 
 @pytest.fixture(scope="module")
 def photos(photo):
-    return {(i, kind): Photo.of(*photo(i, kind), DLIB68) for i in PEOPLE for kind in ("neutral", "smile")}
+    return {(i, kind): Face.of(*photo(i, kind), DLIB68) for i in PEOPLE for kind in ("neutral", "smile")}
 
 
 def test_one_persons_photos_in_the_right_order_raise_nothing(photos):

@@ -21,8 +21,9 @@ from serving import Server, nginx
 import exprclone
 from exprclone import data as samples
 from exprclone.io.images import load_image
+from exprclone.io.inputs import Source
 from exprclone.io.video import probe
-from exprclone.server.shared_jobs import WORKER_LOST
+from exprclone.server.runtime.shared_jobs import WORKER_LOST
 
 pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -m 'not slow' leaves these out
 
@@ -172,11 +173,11 @@ def test_a_job_expires_with_its_names_on_the_scheduler(cluster):
     from exprclone.io.video import Limits
     from exprclone.options import Driving, Framing, Options
     from exprclone.server import work
-    from exprclone.server.shared_jobs import SharedJobs
+    from exprclone.server.runtime.shared_jobs import SharedJobs
 
     running, client = cluster
     limits = Limits(25_000_000, 120)
-    portrait = work.Upload("portrait", VIDEO["portrait"][1])
+    portrait = Source("portrait", VIDEO["portrait"][1])
     request = work.VideoRequest(portrait, Options(method="global"), Driving(), Framing(size=128), limits)
 
     async def scenario() -> tuple[str, dict, dict]:

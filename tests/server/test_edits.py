@@ -16,9 +16,9 @@ from exprclone.io.images import load_image
 from exprclone.landmarks.backends import default_detector
 from exprclone.landmarks.layout import DLIB68
 from exprclone.mouth import measure
-from exprclone.server import edits as edits_module
-from exprclone.server.edits import Edit, Edits, NoSuchEdit
-from exprclone.server.limits import Busy
+from exprclone.server.runtime import edits as edits_module
+from exprclone.server.runtime.edits import Edit, Edits, NoSuchEdit
+from exprclone.server.runtime.limits import Busy
 
 pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -m 'not slow' leaves these out
 

@@ -19,7 +19,7 @@ from websockets.sync.client import connect
 
 from exprclone import data as samples
 from exprclone.io.video import write_video
-from exprclone.server.protocol import START_SECONDS
+from exprclone.server.runtime.protocol import START_SECONDS
 
 pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -m 'not slow' leaves these out
 

@@ -1,4 +1,5 @@
-"""Video jobs' bookkeeping (:mod:`exprclone.server.jobs`): failed jobs give their place back, Retry-After agrees with the message."""
+"""Video jobs' bookkeeping (:mod:`exprclone.server.runtime.jobs`): failed jobs give their place back, Retry-After agrees with
+the message."""
 
 import re
 from concurrent.futures import Future
@@ -6,8 +7,8 @@ from concurrent.futures import Future
 import pytest
 
 from exprclone.errors import ExprCloneError
-from exprclone.server.jobs import FAILED_KEPT, RETRY_RUNNING, Jobs
-from exprclone.server.limits import Busy
+from exprclone.server.runtime.jobs import FAILED_KEPT, RETRY_RUNNING, Jobs
+from exprclone.server.runtime.limits import Busy
 
 pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -m 'not slow' leaves these out
 

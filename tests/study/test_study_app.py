@@ -198,7 +198,7 @@ def test_parallel_requests_of_one_address_are_paced_as_one_after_another():
     import sys
     import threading
 
-    from exprclone.server.limits import Paced, TooMany
+    from exprclone.server.runtime.limits import Paced, TooMany
 
     interval = sys.getswitchinterval()
     sys.setswitchinterval(1e-6)

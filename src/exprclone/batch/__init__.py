@@ -1,2 +1,2 @@
 """Many clones in one run (``exprclone batch``): :mod:`.manifest` (what to do), :mod:`.job` (how: each photo detected
-once, rows sharing faces prepared once, on local processes or a Dask cluster), :mod:`.work` (the tasks a worker runs)."""
+once, rows sharing faces prepared once, on local processes or a Dask cluster), :mod:`.rows` (the tasks a worker runs)."""

@@ -19,6 +19,7 @@ import contextlib
 import csv
 import functools
 import hashlib
+import io
 import json
 import multiprocessing
 import os
@@ -28,21 +29,20 @@ from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
-from typing import IO, TYPE_CHECKING, Any
+from typing import IO, Any
 
 import numpy as np
 
 from ..cluster import connect
 from ..errors import ExprCloneError
 from ..io.documents import csv_cell
+from ..io.images import atomic_write
 from ..io.progress import Display, Progress, Quiet
 from ..landmarks.backends import name_of
 from ..options import Options
-from . import work
+from ..pipeline.group import Found
 from .manifest import COLUMNS, Row
-
-if TYPE_CHECKING:
-    from ..pipeline.group import Found
+from .rows import Outcome, Task, clone_rows, detect
 
 #: photos detected per task.
 DETECT_CHUNK = 8
@@ -95,7 +95,7 @@ class Dask:
     @contextlib.contextmanager
     def running(self) -> Iterator[Map]:
         client = connect(self.scheduler)
-        from distributed import as_completed
+        from distributed import as_completed  # (Dask: an extra, loaded by a job on a cluster)
 
         with client:
             submitted: list[Any] = []
@@ -143,7 +143,7 @@ def find_landmarks(
     first_path = {d: p for p, d in reversed(readable.items())}
     chunks = [missing[k : k + DETECT_CHUNK] for k in range(0, len(missing), DETECT_CHUNK)]
     bar, done = progress(len(missing), "photos"), 0
-    for k, results in run(functools.partial(work.detect, landmarker=landmarker), [[first_path[d] for d in chunk] for chunk in chunks]):
+    for k, results in run(functools.partial(detect, landmarker=landmarker), [[first_path[d] for d in chunk] for chunk in chunks]):
         for digest, (faces, problem) in zip(chunks[k], results):
             found[digest] = faces if faces is not None else problem
             if cache is not None and faces is not None:
@@ -168,8 +168,6 @@ def _face_record(face: Found) -> dict[str, Any]:
 
 def _cached(cache: Path | None, digest: str, landmarker: str) -> tuple[Found, ...] | None:
     """The faces kept in ``cache`` of a photo by its digest, or None (a file of an older version kept no faces)."""
-    from ..pipeline.group import Found
-
     path = None if cache is None else cache / f"{digest}-{landmarker}.json"
     if path is None or not path.is_file() or "faces" not in (document := json.loads(path.read_text())):
         return None
@@ -178,7 +176,7 @@ def _cached(cache: Path | None, digest: str, landmarker: str) -> tuple[Found, ..
 
 def make_tasks(
     rows: list[Row], landmarks: dict[str, np.ndarray], options: Options, several: dict[str, tuple[Found, ...]] | None = None
-) -> list[work.Task]:
+) -> list[Task]:
     """Rows grouped by source neutral photo and target, in tasks of at most :data:`CLONE_CHUNK` rows; with the faces of
     their targets that show several (``several``, by path)."""
     groups: dict[tuple[str, str], list[Row]] = {}
@@ -189,7 +187,7 @@ def make_tasks(
         for k in range(0, len(group), CLONE_CHUNK):
             chunk = tuple(group[k : k + CLONE_CHUNK])
             shown = {row.target_neutral: faces for row in chunk if (faces := (several or {}).get(row.target_neutral))}
-            tasks.append(work.Task(chunk, {p: landmarks[p] for row in chunk for p in row.photos}, options, shown))
+            tasks.append(Task(chunk, {p: landmarks[p] for row in chunk for p in row.photos}, options, shown))
     return tasks
 
 
@@ -197,7 +195,7 @@ def run(
     rows: list[Row],
     options: Options,
     backend: Local | Dask,
-    outcomes: dict[int, work.Outcome],
+    outcomes: dict[int, Outcome],
     *,
     overwrite: bool = False,
     cache: Path | None = None,
@@ -211,7 +209,7 @@ def run(
     After Ctrl-C, ``outcomes`` holds what finished.
     """
     known = known or {}
-    outcomes.update({row.number: work.Outcome(row.number, "skipped") for row in rows if not overwrite and os.path.exists(row.output)})
+    outcomes.update({row.number: Outcome(row.number, "skipped") for row in rows if not overwrite and os.path.exists(row.output)})
     to_do = [row for row in rows if row.number not in outcomes]
     for row in to_do:
         os.makedirs(os.path.dirname(row.output), exist_ok=True)
@@ -227,15 +225,15 @@ def run(
             if bad is None:
                 ready.append(row)
             else:
-                outcomes[row.number] = work.Outcome(row.number, "failed", f"{bad}: {problems[bad]}")
+                outcomes[row.number] = Outcome(row.number, "failed", f"{bad}: {problems[bad]}")
         _clone(make_tasks(ready, landmarks, options, groups), map_, outcomes, progress(len(ready), "pairs"))
 
 
-def _clone(tasks: list[work.Task], map_: Map, outcomes: dict[int, work.Outcome], bar: Display) -> None:
+def _clone(tasks: list[Task], map_: Map, outcomes: dict[int, Outcome], bar: Display) -> None:
     """Run the clone tasks, recording each row's outcome as it comes (so that Ctrl-C keeps what finished)."""
     start, done, failed = time.perf_counter(), 0, 0
     total = sum(len(t.rows) for t in tasks)
-    for _, results in map_(work.clone_rows, tasks):
+    for _, results in map_(clone_rows, tasks):
         for outcome in results:
             outcomes[outcome.number] = outcome
             done, failed = done + 1, failed + (outcome.status == "failed")
@@ -243,18 +241,15 @@ def _clone(tasks: list[work.Task], map_: Map, outcomes: dict[int, work.Outcome],
         bar.update(done, f"{failed} failed, {rate:.1f}/s, {max(total - done, 0) / rate:.0f} s left")
 
 
-def write_report(path: str, rows: list[Row], outcomes: dict[int, work.Outcome]) -> None:
+def write_report(path: str, rows: list[Row], outcomes: dict[int, Outcome]) -> None:
     """The report: one CSV row per manifest row (rows not reached, after Ctrl-C, say ``not run``)."""
-    from ..io.images import atomic_write
 
     def lines(f: IO[bytes]) -> None:
-        import io
-
         text = io.TextIOWrapper(f, encoding="utf-8", newline="")
         writer = csv.writer(text)
         writer.writerow(REPORT)
         for row in rows:
-            o = outcomes.get(row.number, work.Outcome(row.number, "not run"))
+            o = outcomes.get(row.number, Outcome(row.number, "not run"))
             lam = "" if o.lambda_k is None else f"{o.lambda_k:g}"
             cells = [*row.photos, row.output, o.status, o.error, lam, f"{o.seconds:.3f}", "; ".join(o.warnings)]
             writer.writerow([row.number, *map(csv_cell, cells)])

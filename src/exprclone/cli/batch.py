@@ -5,9 +5,11 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import ExprCloneError
+from ..io.progress import Bar
 from ..options import Options, names
 from .inputs import Interrupted, add_expression, add_options, load_expression, options_of
 
@@ -51,7 +53,7 @@ def add_workers(p: argparse.ArgumentParser) -> None:
 
 def backend_of(args: argparse.Namespace) -> Local | Dask:
     """The backend that :func:`add_workers`'s options ask for (:class:`exprclone.batch.job.Local` or ``Dask``)."""
-    from ..batch import job
+    from ..batch import job  # (numpy and the rest: loaded when the command runs, not for --help)
 
     if args.jobs < 1:
         raise ExprCloneError("--jobs", f"expected at least 1, got {args.jobs}")
@@ -61,7 +63,7 @@ def backend_of(args: argparse.Namespace) -> Local | Dask:
 def rows_of(args: argparse.Namespace) -> tuple[list[Row], dict[str, np.ndarray]]:
     """The job's rows, from the manifest or from --targets, and the landmarks known of their photos (a built-in
     expression's); ExprCloneError for arguments that cannot be used."""
-    from ..batch.manifest import read_manifest, rows_for_targets
+    from ..batch.manifest import read_manifest, rows_for_targets  # (numpy and the rest: loaded when the command runs, not for --help)
 
     if args.manifest and args.targets:
         raise ExprCloneError("batch", "give a manifest or --targets, not both")
@@ -83,10 +85,9 @@ def rows_of(args: argparse.Namespace) -> tuple[list[Row], dict[str, np.ndarray]]
 
 
 def run(args: argparse.Namespace) -> None:
-    from pathlib import Path
 
-    from ..batch import job, work
-    from ..io.progress import Bar
+    from ..batch import job  # (numpy and the rest: loaded when the command runs, not for --help)
+    from ..batch.rows import Outcome
 
     backend = backend_of(args)
     rows, known = rows_of(args)
@@ -94,7 +95,7 @@ def run(args: argparse.Namespace) -> None:
     report = args.report or str(folder / "report.csv")
     options = options_of(args, Options, JOB)
     cache = None if args.cache is None else Path(args.cache)
-    outcomes: dict[int, work.Outcome] = {}
+    outcomes: dict[int, Outcome] = {}
     try:
         bar = lambda n, what: Bar(sys.stderr, n, what)  # noqa: E731
         job.run(rows, options, backend, outcomes, overwrite=args.overwrite, cache=cache, progress=bar, known=known)

@@ -6,11 +6,12 @@ import argparse
 import json
 from typing import TYPE_CHECKING
 
-from ..options import REGIONS, Options
+from ..io.record import result_record
+from ..options import Options, differing, flag, key, spec
 from .inputs import add_inputs, load_inputs, source_photos
 
 if TYPE_CHECKING:
-    from ..pipeline.cloner import CloneResult
+    from ..pipeline.result import CloneResult
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -21,8 +22,11 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..io.images import atomic_write, check_output_path, save_image
-    from ..io.record import result_record
+    from ..io.images import (  # (numpy and the rest: loaded when the command runs, not for --help)
+        atomic_write,
+        check_output_path,
+        save_image,
+    )
 
     paths = source_photos(args)
     check_output_path(args.output, paths)
@@ -48,20 +52,21 @@ def faces_cloned(result: CloneResult) -> str:
     return f", face{'s' if len(done) != 1 else ''} {','.join(done) or 'none'} of {len(result.face_results)}"
 
 
+#: the options the last line says apart (the method first, lambda_k as chosen, the faces cloned).
+SAID_APART = ("method", "lambda_k", "faces")
+
+
 def describe(options: Options) -> str:
-    """The options that are not the defaults, for the last line: ``, global warp rbf, strength 0.5``."""
-    default, said = Options(), []
-    if options.global_stage != default.global_stage:
-        said.append(f"global warp {options.global_stage}")
-    if options.image_warp != default.image_warp:
-        said.append(f"image warp {options.image_warp}")
-    if options.strength != default.strength:
-        said.append(f"strength {options.strength:g}")
-    if options.only is not None:
-        said.append(f"only {','.join(options.only)}")
-    said += [f"{r} strength {s:g}" for r in REGIONS if (s := getattr(options, f"strength_{r}")) is not None]
-    if options.strength_shading != default.strength_shading:
-        said.append(f"shading strength {options.strength_shading:g}")
-    if options.retarget != default.retarget:
-        said.append("no retarget")
+    """The options that are not the defaults, for the last line: ``, global warp rbf, strength 0.5, no retarget``: each
+    by its key's words and its value (a file's: ``given``), a switch by its flag's words (``no retarget``)."""
+    said = []
+    for name, value in differing(options).items():
+        if name in SAID_APART or "cli" not in spec(Options, name).surfaces:
+            continue
+        if isinstance(value, bool):
+            said.append(flag(Options, name).lstrip("-").replace("-", " "))
+            continue
+        words = key(Options, name).replace("_", " ")
+        shown = f"{value:g}" if isinstance(value, float) else ",".join(map(str, value)) if isinstance(value, tuple) else value
+        said.append(f"{words} {shown if isinstance(shown, str) else 'given'}")
     return "".join(f", {s}" for s in said)

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
 
 from ..methods import FIGURES
 from ..options import Options, names
@@ -12,7 +11,7 @@ from .inputs import add_inputs, load_inputs, source_photos
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    c = sub.add_parser("compare", help="the paper's Figs. 11-13 and the DB curve as one sheet, or its Figs. 19-21")
+    c = sub.add_parser("compare", help="the paper's Figs. 11-13 and the DB curve as one sheet, or its Figs. 16-17 or 19-21")
     add_inputs(c, tuple(n for n in names(Options) if n != "method"))  # every method is on the sheet
     c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
     c.add_argument(
@@ -26,13 +25,18 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..evaluation.figures import draw, figure_request, one_face, summary
+    from ..evaluation.figures import (
+        draw,
+        figure_request,
+        one_face,
+        summary,
+    )  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..io.images import check_output_path, save_image
 
     paths = source_photos(args)
     check_output_path(args.output, paths)
     inputs = load_inputs(args)
     methods, options = figure_request(args.figure, inputs.options, args.global_warp is not None)
-    results = replace(inputs, options=options).clone(methods)
+    results = inputs.clone(methods, options)
     save_image(args.output, draw(args.figure, results, inputs.images), inputs=paths)
     print(f"{args.output}: {summary(args.figure, one_face(results, inputs.images)[0])}")

@@ -7,6 +7,8 @@ import json
 import os
 from typing import TYPE_CHECKING
 
+from .. import data
+from ..io.record import result_record
 from ..roles import ROLES
 
 if TYPE_CHECKING:
@@ -22,9 +24,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 
 def run(args: argparse.Namespace) -> None:
-    from .. import data
-    from ..io.images import atomic_write, save_image
-    from ..io.record import result_record
+    from ..io.images import atomic_write, save_image  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..pipeline.clone import clone_methods
 
     os.makedirs(args.output, exist_ok=True)
@@ -50,7 +50,7 @@ def run(args: argparse.Namespace) -> None:
 
 def built_in_smile(output: str, portrait: np.ndarray) -> str:
     """The built-in prototype smile on the portrait (:func:`exprclone.expressions.clone`), from that one photo; what was written."""
-    from .. import data, expressions
+    from .. import data, expressions  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..io.images import save_image
 
     result = expressions.clone(portrait, expressions.DEFAULT)
@@ -61,7 +61,7 @@ def built_in_smile(output: str, portrait: np.ndarray) -> str:
 
 def drive_video(output: str, portrait: np.ndarray) -> str:
     """The sample clip driving the portrait, side by side, with its sound; what was written."""
-    from .. import data, drive
+    from .. import data, drive  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..drive.framing import resize_portrait, side_by_side
     from ..io import video as video_io
 

@@ -6,26 +6,50 @@ import argparse
 import os
 import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
-from ..errors import ExprCloneError
-from ..options import GLOBAL_WARPS, IMAGE_WARPS, Options
+from .. import data as samples
+from ..io.progress import Bar
+from ..options import Options, key, spec
 from .inputs import add_options, options_of, value_type
 
 
-def listed(parse: Callable[[str], Any] | tuple[str, ...], name: str) -> Callable[[str], tuple[Any, ...]]:
-    """An argparse type: comma-separated values, each parsed by ``parse`` (a function, or the tuple of allowed words)."""
+def listed(cls: type, name: str) -> Callable[[str], tuple[Any, ...]]:
+    """An argparse type: comma-separated values of the option ``name`` of ``cls``, each read and checked by its spec
+    (:func:`~exprclone.cli.inputs.value_type`), without repeats; ``all``, for an option of named choices, is every one."""
+    read, choices = value_type(cls, name), spec(cls, name).choices
 
     def parse_list(text: str) -> tuple[Any, ...]:
-        values = tuple(v.strip() for v in text.split(","))
-        if isinstance(parse, tuple):
-            bad = [v for v in values if v not in parse]
-            if bad:
-                raise argparse.ArgumentTypeError(f"unknown {name} {bad[0]!r}; choose from: {', '.join(parse)}")
-            return tuple(dict.fromkeys(values))
-        return tuple(dict.fromkeys(parse(v) for v in values))
+        if choices and text.strip() == "all":
+            return choices
+        return tuple(dict.fromkeys(read(v.strip()) for v in text.split(",")))
 
     return parse_list
+
+
+def add_lists(p: argparse.ArgumentParser, cls: type, chosen: tuple[str, ...], said: str, every: tuple[str, ...] = ()) -> None:
+    """Options of ``cls`` given as comma-separated lists, each its key made plural (``--global-warps``, ``--retargets``)
+    and its values read as the option's (:func:`listed`); by default the option's default alone, or every choice for
+    those of ``every``. ``said`` ends each one's help: what the list is for."""
+    default = cls()
+    for name in chosen:
+        option = spec(cls, name)
+        start = option.choices if name in every and option.choices else (getattr(default, name),)
+        shown = "all" if name in every else ",".join(f"{v:g}" if isinstance(v, float) else str(v).lower() for v in start)
+        choices = f" ({', '.join(option.choices)}, or all)" if option.choices else " (true, false)" if option.kind is bool else ""
+        p.add_argument(
+            f"--{key(cls, name).replace('_', '-')}s",
+            dest=f"{name}s",
+            type=listed(cls, name),
+            default=start,
+            metavar="LIST",
+            help=f"comma-separated values{choices} of: {option.help}; {said} (default: {shown})",
+        )
+
+
+#: the options whose lists make an evaluation's variants (:func:`exprclone.evaluation.runner.variants`).
+VARIANTS = ("global_warp", "image_warp", "strength", "retarget")
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -39,29 +63,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     )
     e.add_argument("--pairs", type=int, default=50, help="ordered pairs of different people, drawn with --seed (0: all; default 50)")
     e.add_argument("--seed", type=int, default=0)
-    e.add_argument("--methods", default="all", help="comma-separated methods, or all (default)")
+    add_lists(e, Options, ("method",), "the methods scored", every=("method",))
     e.add_argument("--out", default="report", help="report folder (default: report/)")
     e.add_argument("--jobs", type=int, default=1, help="processes to use (default 1)")
     add_options(e, Options, ("landmarker",))  # the clones'; the scores' are always dlib's, so that both compare
-    variants = "; every combination of --global-warps, --image-warps, --strengths and --retargets is a variant, scored beside the others"
-    e.add_argument(
-        "--global-warps",
-        type=listed(GLOBAL_WARPS, "global warp"),
-        default=GLOBAL_WARPS[:1],
-        metavar="LIST",
-        help=f"comma-separated global warps ({', '.join(GLOBAL_WARPS)}; default similarity){variants}",
-    )
-    e.add_argument(
-        "--image-warps",
-        type=listed(IMAGE_WARPS, "image warp"),
-        default=IMAGE_WARPS[:1],
-        metavar="LIST",
-        help=f"comma-separated image warps ({', '.join(IMAGE_WARPS)}; default mesh)",
-    )
-    strength = value_type(Options, "strength")
-    e.add_argument(
-        "--strengths", type=listed(strength, "strength"), default=(1.0,), metavar="LIST", help="comma-separated strengths (default 1)"
-    )
+    flags = ", ".join(f"--{key(Options, n).replace('_', '-')}s" for n in VARIANTS)
+    add_lists(e, Options, VARIANTS, f"every combination of {flags} is a variant, scored beside the others")
     e.add_argument(
         "--expression",
         type=lambda text: tuple(v.strip() for v in text.split(",")),
@@ -71,34 +78,19 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         " not made into them, scored beside the pairs' individual sources on the same targets; expressions of one name"
         " made without different people (--folds) score each person with the first made without them",
     )
-    e.add_argument(
-        "--retargets",
-        type=lambda text: tuple(value == "on" for value in listed(("on", "off"), "retarget")(text)),
-        default=(True,),
-        metavar="LIST",
-        help="on (default), off (the paper's global and local stages, --no-retarget), or on,off",
-    )
 
 
 def run(args: argparse.Namespace) -> None:
-    from pathlib import Path
 
-    from .. import data as samples
-    from ..evaluation.expression import held_out
+    from ..evaluation.expression import held_out  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..evaluation.expression import section as expression_section
     from ..evaluation.london import Dataset
     from ..evaluation.report import write_report
     from ..evaluation.runner import run as score
     from ..evaluation.runner import variants
     from ..expressions import load
-    from ..io.progress import Bar
-    from ..methods import METHODS, lookup
 
-    with_methods = METHODS if args.methods == "all" else tuple(m.strip() for m in args.methods.split(","))
-    try:
-        methods = tuple(m.name for m in lookup(with_methods))
-    except ExprCloneError as e:
-        raise ExprCloneError("--methods", e.problem) from None
+    methods = args.methods
     data = Dataset.open(args.data or samples.london())
     pairs = data.pairs(args.pairs, args.seed)
     chosen = variants(args.global_warps, args.image_warps, args.strengths, args.retargets)

@@ -10,7 +10,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..expressions import load, names
+    from ..expressions import load, names  # (numpy and the rest: loaded when the command runs, not for --help)
 
     width = max(len(name) for name in names())
     print("\n".join(f"{name:<{width}}  {load(name).description}" for name in names()))

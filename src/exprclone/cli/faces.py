@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
+from ..landmarks.backends import shared
 from ..options import Options
 from .inputs import add_options, options_of
 
@@ -26,8 +27,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..io.images import check_output_path, load_image, save_image
-    from ..landmarks.backends import shared
+    from ..io.images import check_output_path, load_image, save_image  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..pipeline import group
 
     options = options_of(args, Options, ("landmarker",))
@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> None:
 def preview(image: np.ndarray, faces: tuple[Found, ...]) -> np.ndarray:
     """``image`` with each face's box outlined (:data:`COLOURS`: red for a face that cannot be cloned) and its number
     written above it; a new array."""
-    import cv2
+    import cv2  # (numpy and the rest: loaded when the command runs, not for --help)
 
     out = image.copy()
     thick = max(2, round(max(image.shape[:2]) / 600))

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from ..errors import ExprCloneError, naming
-from ..options import Options, changed, key, names, offered, spec
+from ..options import Options, changed, flag, key, names, offered, spec
 from ..roles import ROLES, TARGET_NEUTRAL
 
 if TYPE_CHECKING:
@@ -18,7 +18,8 @@ if TYPE_CHECKING:
 
     from ..expressions import Expression
     from ..geometry.eigenface import Eigenfaces
-    from ..pipeline.cloner import CloneResult
+    from ..pipeline.request import Request
+    from ..pipeline.result import CloneResult
 
 T = TypeVar("T")
 
@@ -47,20 +48,22 @@ def value_type(cls: type, name: str) -> Callable[[str], Any]:
 def add_options(p: Any, cls: type, chosen: tuple[str, ...] | None = None) -> None:
     """The options of ``cls`` (:class:`~exprclone.options.Options` or another value of option fields) that the
     command line offers, of ``chosen``, each an argument made from its spec: ``--strength S``, ``--no-mouth``, ``--global-landmarks
-    FILE``. ``p`` is a parser or a group of one. Arguments not given are None: :func:`options_of` leaves them as they are."""
+    FILE``; a switch on by default is a flag that turns it off, its help what giving the flag does (the spec's
+    ``flag_help``). ``p`` is a parser or a group of one. Arguments not given are None: :func:`options_of` leaves them as
+    they are."""
     default = cls()
     for name in offered(cls, "cli", chosen):
-        option = spec(cls, name)
-        flag = option.flag or f"--{key(cls, name).replace('_', '-')}"
+        option, given = spec(cls, name), flag(cls, name)
         value = getattr(default, name)
         if option.file:
-            p.add_argument(flag, dest=name, metavar=option.metavar, help=option.help)
+            p.add_argument(given, dest=name, metavar=option.metavar, help=option.help)
         elif option.kind is bool:
-            p.add_argument(flag, dest=name, action="store_false" if value else "store_true", default=None, help=option.help)
+            action, said = ("store_false", option.flag_help) if value else ("store_true", option.help)
+            p.add_argument(given, dest=name, action=action, default=None, help=said)
         else:
             shown = "" if value is None else f" (default: {value:g})" if isinstance(value, float) else f" (default: {value})"
             read = None if option.choices else value_type(cls, name)
-            p.add_argument(flag, dest=name, type=read, choices=option.choices, metavar=option.metavar, help=option.help + shown)
+            p.add_argument(given, dest=name, type=read, choices=option.choices, metavar=option.metavar, help=option.help + shown)
 
 
 def options_of(args: argparse.Namespace, cls: type[T], chosen: tuple[str, ...] | None = None, base: T | None = None) -> T:
@@ -161,53 +164,62 @@ def with_eigenfaces(args: argparse.Namespace, options: Options) -> Options:
 
 
 @dataclass(frozen=True)
-class Inputs:
-    """The three photos of ``clone`` and ``compare`` as the command line gives them, loaded, and how to clone them.
+class Asked:
+    """What ``clone`` and ``compare`` are asked on the command line: the request of its files, read
+    (:func:`exprclone.io.inputs.gather`), and what each photo is (its path, or the built-in expression's part).
 
     Attributes
     ----------
+    request : Request
     names : dict of str to str
-        Each photo's role (:data:`exprclone.roles.ROLES`), and ``global_landmarks`` if given, to its path: what errors name.
-    images : tuple of three ndarray of shape (H, W, 3), uint8 RGB
-    landmarks : tuple of three ndarray of shape (N, 2) or None
-        Given by a landmark file, or None (detected).
-    options : Options
-        The clone's options, the files they name read.
+        Each photo's role (:data:`exprclone.roles.ROLES`), and ``global_landmarks`` if given, to its path: what errors
+        and the record name.
     """
 
+    request: Request
     names: dict[str, str]
-    images: tuple[np.ndarray, np.ndarray, np.ndarray]
-    landmarks: tuple[np.ndarray | None, np.ndarray | None, np.ndarray | None]
-    options: Options
 
-    def clone(self, methods: tuple[str, ...]) -> dict[str, CloneResult]:
-        """The photos cloned by ``methods`` (:func:`exprclone.clone_methods`); errors name the command line's files."""
-        from ..pipeline.clone import clone_methods
+    @property
+    def options(self) -> Options:
+        return self.request.options
 
+    @property
+    def images(self) -> tuple[np.ndarray, ...]:
+        """The three photos, in the order of :data:`~exprclone.roles.ROLES`."""
+        return tuple(p.image for p in self.request.photos)
+
+    def clone(self, methods: tuple[str, ...], options: Options | None = None) -> dict[str, CloneResult]:
+        """The request's clone by ``methods`` (with other ``options`` if given): its errors name the command line's files."""
+        from ..pipeline import request as door  # (the pipeline when a command runs, not for --help)
+
+        request = self.request if options is None else dataclasses.replace(self.request, options=options)
         with naming(self.names):
-            return clone_methods(*self.images, methods, landmarks=self.landmarks, options=self.options)
+            return door.prepare(request, methods).render()
 
 
-def load_inputs(args: argparse.Namespace) -> Inputs:
-    """The three photos named on the command line (or the target's and a built-in expression's two, their landmarks
-    with them), loaded, their landmark files read, and the clone's options (:func:`options_of`, the files they name read)."""
-    from ..io.images import load_image
-    from ..io.landmarks import read_landmarks
+def load_inputs(args: argparse.Namespace) -> Asked:
+    """The three photos named on the command line (or the target's and a built-in expression), their landmark files
+    and the clone's options (:func:`options_of`; the files they name read), gathered into one request."""
+    from ..io.inputs import Source, gather  # (the pipeline when a command runs, not for --help)
 
     source_photos(args)
     files = [getattr(args, f"{role}_landmarks") for role in ROLES]
     if args.expression is None:
-        paths = {role: getattr(args, role) for role in ROLES}
-        sn, se, tn = (load_image(p) for p in paths.values())
-        read = [None if f is None else read_landmarks(f, im.shape) for f, im in zip(files, (sn, se, tn))]
+        names = {role: getattr(args, role) for role in ROLES}
     else:
         chosen = load_expression(args.expression)
-        paths = {role: f"--expression {chosen.name} ({part})" for role, part in zip(ROLES, ("neutral", "expression"))}
-        paths[TARGET_NEUTRAL] = args.target_neutral
-        sn, se, tn = chosen.neutral.image, chosen.expression.image, load_image(args.target_neutral)
-        read = [chosen.neutral.points, chosen.expression.points, None if files[2] is None else read_landmarks(files[2], tn.shape)]
-    options = options_of(args, Options)
-    if getattr(args, "global_landmarks", None):
-        options = dataclasses.replace(options, global_landmarks=read_landmarks(args.global_landmarks, tn.shape))
-        paths["global_landmarks"] = args.global_landmarks
-    return Inputs(paths, (sn, se, tn), (read[0], read[1], read[2]), with_eigenfaces(args, options))
+        names = {role: f"--expression {chosen.name} ({part})" for role, part in zip(ROLES, ("neutral", "expression"))}
+        names[TARGET_NEUTRAL] = args.target_neutral
+    photos = [None if args.expression is not None and role != TARGET_NEUTRAL else Source(names[role]) for role in ROLES]
+    given = None if not getattr(args, "global_landmarks", None) else Source(args.global_landmarks)
+    if given is not None:
+        names["global_landmarks"] = given.name
+    with naming(names):
+        request = gather(
+            photos,
+            [None if f is None else Source(f) for f in files],
+            with_eigenfaces(args, options_of(args, Options)),
+            expression=args.expression,
+            global_landmarks=given,
+        )
+    return Asked(request, names)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from ..cluster import connect
 from ..errors import ExprCloneError
 from ..server.settings import Settings
 from .inputs import Interrupted
@@ -104,7 +105,7 @@ def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> Non
     answers (its start-up done: the workers ready, the port bound), and "stopped" when it stops (after Ctrl-C,
     :class:`~exprclone.cli.inputs.Interrupted`). ExprCloneError if it cannot start (the port in use: uvicorn logs the
     reason first)."""
-    import uvicorn
+    import uvicorn  # (the server extra: loaded when serving, not for --help)
 
     class Announced(uvicorn.Server):
         async def startup(self, sockets: Any = None) -> None:
@@ -127,7 +128,7 @@ def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> Non
 
 def run(args: argparse.Namespace) -> None:
     server_packages()
-    from ..server.app import create_app
+    from ..server.app import create_app  # (FastAPI, numpy and the rest: loaded when serving, not for --help)
 
     check_bounds(args, tuple(BOUNDS))
     fields = {flag.replace("-", "_"): getattr(args, flag.replace("-", "_")) for flag in BOUNDS if flag not in UVICORN}
@@ -135,8 +136,6 @@ def run(args: argparse.Namespace) -> None:
     settings = Settings(**fields, cors=tuple(args.cors), scheduler=args.scheduler)
     where = f"{args.workers} workers"
     if args.scheduler:
-        from ..cluster import connect
-
         connect(args.scheduler).close()  # one that cannot be reached is a one-line error now, not uvicorn's traceback
         where = f"the Dask cluster at {args.scheduler}"
     said = f"serving on http://{args.host}:{args.port}/ ({where}; Ctrl-C to stop)"

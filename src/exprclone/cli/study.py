@@ -6,9 +6,10 @@ import argparse
 import sys
 
 from ..errors import ExprCloneError
+from ..io.progress import Bar
 from ..options import Options, names
 from .batch import add_workers, backend_of
-from .evaluate import listed
+from .evaluate import add_lists
 from .inputs import add_options, options_of
 from .serve import UVICORN, add_address, add_bounds, check_bounds, listen, server_packages
 
@@ -17,20 +18,12 @@ STUDY = tuple(n for n in names(Options) if n not in ("method", "global_landmarks
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    from ..methods import METHODS
-
     s = sub.add_parser("study", help="the paper's user study (Table 1): make a study, serve it to participants, read the results")
     commands = s.add_subparsers(dest="study_command", required=True)
     m = commands.add_parser("make", help="clone each set of a manifest by every method into a study folder, the methods hidden")
     m.add_argument("manifest", help="CSV: source_neutral,source_expression,target_neutral[,set,lambda] (paths relative to it)")
     m.add_argument("-o", "--out", required=True, metavar="DIR", help="the study folder to write")
-    m.add_argument(
-        "--methods",
-        type=listed(METHODS, "method"),
-        default=METHODS,
-        metavar="LIST",
-        help="comma-separated methods to compare (default: all)",
-    )
+    add_lists(m, Options, ("method",), "the methods to compare", every=("method",))
     m.add_argument(
         "--max-size", metavar="PIXELS", type=int, help="make the photos at most this long on their longest side (default: as they are)"
     )
@@ -53,8 +46,7 @@ def run(args: argparse.Namespace) -> None:
 
 
 def make(args: argparse.Namespace) -> None:
-    from ..io.progress import Bar
-    from ..study.make import make as make_study
+    from ..study.make import make as make_study  # (numpy and the rest: loaded when the command runs, not for --help)
 
     options = options_of(args, Options, STUDY)
     backend = backend_of(args)
@@ -73,7 +65,7 @@ def make(args: argparse.Namespace) -> None:
 
 def serve(args: argparse.Namespace) -> None:
     server_packages()
-    from ..study.app import create_app
+    from ..study.app import create_app  # (FastAPI, numpy and the rest: loaded when serving, not for --help)
 
     for flag, value in (("--max-participants", args.max_participants), ("--new-per-address", args.new_per_address)):
         if value < 1:
@@ -84,7 +76,7 @@ def serve(args: argparse.Namespace) -> None:
 
 
 def results(args: argparse.Namespace) -> None:
-    from ..io.images import atomic_write, check_output_path
+    from ..io.images import atomic_write, check_output_path  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..study.results import csv_text, formatted
     from ..study.results import results as table
 

@@ -7,6 +7,8 @@ import sys
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
+from ..errors import naming
+from ..io.progress import Bar
 from ..options import Driving, Framing, Options, names
 from ..roles import SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .inputs import add_options, options_of, with_eigenfaces
@@ -38,9 +40,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 def prepare(args: argparse.Namespace, inputs: list[str]) -> tuple[VideoInfo, Recording]:
     """The video's probe and the recording prepared from the command's arguments (:func:`exprclone.drive.prepare`)."""
-    from .. import drive
+    from .. import drive  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..drive.framing import resize_portrait
-    from ..errors import naming
     from ..io import video as video_io
     from ..io.images import check_output_path, load_image
     from ..io.landmarks import read_landmarks
@@ -67,9 +68,8 @@ def prepare(args: argparse.Namespace, inputs: list[str]) -> tuple[VideoInfo, Rec
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..drive.framing import side_by_side
+    from ..drive.framing import side_by_side  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..io import video as video_io
-    from ..io.progress import Bar
 
     inputs = [p for p in (args.target_neutral, args.driving_video, args.source_neutral) if p]
     info, recording = prepare(args, inputs)
@@ -88,7 +88,7 @@ def run(args: argparse.Namespace) -> None:
 
 def describe(args: argparse.Namespace, recording: Recording, rate: float) -> str:
     """The end of the last line: how lambda_k was chosen, the neutral face, the frames without a face, the speed."""
-    import numpy as np
+    import numpy as np  # (numpy and the rest: loaded when the command runs, not for --help)
 
     lam = recording.driver.lambda_k
     if lam is None:

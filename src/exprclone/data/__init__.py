@@ -161,7 +161,7 @@ def photo(face_id: str, kind: str = "neutral") -> np.ndarray:
     >>> image.shape, image.dtype.name
     ((1350, 1350, 3), 'uint8')
     """
-    from ..io.images import load_image
+    from ..io.images import load_image  # (numpy and Pillow when a photo is read: naming the samples needs neither)
 
     return load_image(path(face_id, kind))
 

@@ -36,7 +36,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..imaging import raster
+from ..imaging import order, raster
 from ..landmarks import align
 from ..landmarks.layout import Layout
 from . import coarse, gate
@@ -278,7 +278,7 @@ def ratio_on_grid(
     if still is not None:  # the light's colour: the chromaticity's change over the skin the expression leaves still
         reference = raster.evenly(still * smooth * trust)
         lit = change.reshape(-1, 2)[reference]
-        light = np.median(lit, axis=0) if len(lit) >= MIN_STILL else light
+        light = order.median(lit, 0) if len(lit) >= MIN_STILL else light
     trusted = raster.evenly(weight)
     x, y = np.log(ratio).reshape(-1)[trusted], (shift - light).reshape(-1, 2)[trusted]
     slope = (x @ y) / max(float(x @ x), 1e-9) if len(x) >= MIN_STILL else np.zeros(2, np.float32)

@@ -22,7 +22,7 @@ import cv2
 import numpy as np
 from scipy import stats
 
-from ..imaging import piecewise, raster
+from ..imaging import order, piecewise, raster
 from ..landmarks.layout import Layout
 
 #: source motion (inter-ocular distances) at which the ratio starts to count, and counts fully
@@ -104,9 +104,9 @@ def robust_gaussian(values: np.ndarray, trusted: np.ndarray) -> Fit:
     if len(face) < MIN_PIXELS:
         return None
     k = values.shape[-1]
-    centre = np.median(face, 0)
+    centre = order.median(face, 0)
     near = np.linalg.norm(face - centre, axis=1)
-    core = face[near <= np.percentile(near, 100 * CORE)]
+    core = face[near <= order.percentile(near, 100 * CORE)]
     return centre, np.linalg.inv(np.atleast_2d(np.cov(core.T)) / core_variance(k) + 1e-8 * np.eye(k))
 
 
@@ -187,7 +187,7 @@ def skin(
         out *= fade_out(chroma, *fit)
     if hue is not None and len(trusted) >= MIN_PIXELS:
         change = chroma - neutral_chroma
-        out *= fade_out(change, np.median(change[np.unravel_index(trusted, change.shape[:2])], 0), hue[1])
+        out *= fade_out(change, order.median(change[np.unravel_index(trusted, change.shape[:2])], 0), hue[1])
     return out if exempt is None else np.maximum(out, exempt)
 
 

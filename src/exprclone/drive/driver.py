@@ -41,8 +41,11 @@ from ..landmarks.layout import Layout
 from ..methods import Method, lookup
 from ..mouth import measure
 from ..options import Driving, Options, changed, names
+from ..pipeline import request as door
 from ..pipeline.checks import check_for_target, check_image
-from ..pipeline.cloner import Cloner, CloneResult
+from ..pipeline.cloner import Cloner
+from ..pipeline.request import Photo, Request
+from ..pipeline.result import CloneResult
 from ..roles import SOURCE_NEUTRAL, TARGET_NEUTRAL
 from . import tracking
 
@@ -139,8 +142,9 @@ class Driver:
     ----------
     cloner : Cloner
         The source's neutral face and the portrait, prepared, with the options of every frame's clone. With
-        ``lambda_k="auto"`` the DB metric chooses it on every frame (:func:`choose_lambda` chooses one for a whole
-        performance, and :meth:`Cloner.changed <exprclone.Cloner.changed>` gives it to the cloner).
+        ``lambda_k="auto"`` the DB metric chooses it on every frame
+        (:meth:`Cloner.choose_lambda <exprclone.Cloner.choose_lambda>` chooses one for a whole performance, and
+        :meth:`Cloner.changed <exprclone.Cloner.changed>` gives it to the cloner).
     driving : Driving, optional
         Its ``head_motion``: carry the source's head motion over to the portrait as a similarity transform.
 
@@ -153,12 +157,11 @@ class Driver:
     Frames from anywhere (here a photo of the source smiling), with their landmarks:
 
     >>> from exprclone import data
-    >>> from exprclone.pipeline.cloner import Cloner
     >>> from exprclone.landmarks.backends import default_detector
-    >>> detect = default_detector().detect
+    >>> from exprclone.pipeline.request import Request, pair
     >>> source, portrait, smile = data.photo("126"), data.photo("003"), data.photo("126", "smile")
-    >>> driver = Driver(Cloner(source, detect(source), portrait, detect(portrait), lambda_k=0))
-    >>> out = driver.render(smile, detect(smile))
+    >>> driver = Driver(pair(Request.of(source, None, portrait, lambda_k=0)))
+    >>> out = driver.render(smile, default_detector().detect(smile))
     >>> out.image.shape, out.result.method
     ((1350, 1350, 3), 'e+md')
     """
@@ -221,13 +224,6 @@ class Driver:
         """The source's head motion from its neutral face to ``points``, as a similarity in the portrait's frame."""
         layout = self.cloner.faces.layout
         return align.fit_rigid(align.apply(self._to_target, self.cloner.faces.s_neu), align.apply(self._to_target, points), layout)
-
-
-def choose_lambda(cloner: Cloner, frames: Sequence[np.ndarray], points: Sequence[np.ndarray]) -> float:
-    """One lambda_k for a performance: the median of the DB metric's choices (Eq. 8) on ``frames``."""
-    elastic = cloner.changed(lambda_k="auto")
-    chosen = [elastic.prepare(f, p, ("elastic",)).shapes["elastic"].lambda_k for f, p in zip(frames, points)]  # (nothing rendered)
-    return float(np.median(np.array(chosen, float)))
 
 
 def neutral_index(track: tracking.Track, points: np.ndarray, neutral_frame: int | str, layout: Layout, name: str) -> int:
@@ -382,10 +378,12 @@ def prepare(
     if index is not None:
         neutral_image = fetched.pop(0)
     target_points = detector.detect(target, TARGET_NEUTRAL) if target_points is None else target_points
-    cloner = Cloner(neutral_image, neutral_points, target, target_points, asked)
+    cloner = door.pair(
+        Request(Photo(neutral_image, SOURCE_NEUTRAL, neutral_points), None, Photo(target, TARGET_NEUTRAL, target_points), asked)
+    )
     if opened:  # the source's teeth and cavity read once: the paste's colour the same in every frame
-        cloner.faces.pool_interior(fetched[: len(opened)], [points[i] for i in opened])
+        cloner = cloner.changed(faces=cloner.faces.pooled(fetched[: len(opened)], [points[i] for i in opened]))
     fetched = fetched[len(opened) :]
     if chosen:
-        cloner = cloner.changed(lambda_k=choose_lambda(cloner, fetched, [points[i] for i in chosen]))
+        cloner = cloner.changed(lambda_k=cloner.choose_lambda(fetched, [points[i] for i in chosen]))
     return Recording(Driver(cloner, driving), track, points, index, chosen)

@@ -22,11 +22,13 @@ import numpy as np
 
 from ..errors import ExprCloneError
 from ..expressions import Expression
+from ..io.images import save_image
 from ..io.progress import Progress, Quiet
 from ..landmarks.backends import DEFAULT, shared
 from ..landmarks.layout import DLIB68
 from ..pipeline.clone import clone_methods
 from . import runner
+from .figures import cell, face_box
 from .judge import SMILING
 from .london import Dataset
 from .runner import Candidate, Row, Variant
@@ -224,7 +226,6 @@ def sheet(
     smile; each captioned with its identity distance and the judge's probability that it
     smiles. ``rows`` holds the pairs' and the expressions' rows.
     """
-    from .figures import cell, face_box
 
     scored = {(r["source"], r["target"], r["method"]): r for r in rows if not r["failed"]}
     theirs = {t: [r for (_, target, m), r in scored.items() if m == method and target == t] for t in held}
@@ -279,7 +280,6 @@ def section(
     section : list of str
         The report's paragraphs on them: a title, what was compared, :func:`table`, the sheet.
     """
-    from ..io.images import save_image
 
     chosen = landmarker or DEFAULT
     inputs = landmarks if chosen == runner.JUDGE else {p: shared(chosen).detect(runner.photo(p), p) for p in landmarks}

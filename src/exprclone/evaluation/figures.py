@@ -26,7 +26,7 @@ from ..geometry.db_metric import DBCurve
 from ..imaging import raster
 from ..methods import BY_NAME, FIG11, FIGURES, TABLE
 from ..options import GIVEN, GLOBAL_WARPS, Options
-from ..pipeline.cloner import CloneResult
+from ..pipeline.result import CloneResult
 from ..roles import SOURCE_EXPRESSION, TARGET_NEUTRAL
 
 CELL = 320

@@ -9,10 +9,12 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 from ..io.images import save_image
 from ..landmarks.layout import DLIB68
+from ..methods import BY_NAME
 from ..mouth.measure import mouth_width
 from .figures import face_box
 from .london import Dataset
@@ -220,9 +222,6 @@ def _warmth_sheet(
     """The ``count`` results of the methods with ERI (or mesh image) in ``variant`` whose shadows are the least warm
     (:func:`exprclone.evaluation.scores.warmth`), three to a row: [target neutral | result | result, the darkened skin
     the measure counts outlined], each captioned with its pair, method and warmth."""
-    import cv2
-
-    from ..methods import BY_NAME
 
     label, options = variant
     eri = [m for m in methods if BY_NAME[m].ratio is not None]
@@ -260,8 +259,6 @@ def _gallery(
     Each: [source smile | target neutral | result | target real smile], and under it the
     four mouths close up, each with its teeth measure (``shows`` from :data:`TEETH_SHOWN`).
     """
-    import cv2
-
     label, options = variant
     scored = sorted((r for r in rows if r["method"] == method + label and not r["failed"]), key=lambda r: r["mouth"])
     if not scored:
@@ -299,8 +296,6 @@ def _gallery(
 
 def _mouth_close_up(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
     """The mouth, 1.4 mouth widths across and half as high, as a 360 x 180 image."""
-    import cv2
-
     width = mouth_width(landmarks, DLIB68)
     centre = landmarks[list(DLIB68.mouth_outer)].mean(0)
     crop = cv2.getRectSubPix(image, (int(1.4 * width), int(0.7 * width)), (float(centre[0]), float(centre[1])))
@@ -309,8 +304,6 @@ def _mouth_close_up(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
 
 def _caption(image: np.ndarray, text: str, bottom: bool = False) -> None:
     """White text, outlined in black, at the image's top left (or bottom left)."""
-    import cv2
-
     at = (8, image.shape[0] - 12 if bottom else 24)
     for colour, thickness in (((0, 0, 0), 4), ((255, 255, 255), 2)):
         cv2.putText(image, text, at, cv2.FONT_HERSHEY_SIMPLEX, 0.7, colour, thickness, cv2.LINE_AA)

@@ -52,7 +52,9 @@ from ..landmarks.backends import DEFAULT, shared
 from ..landmarks.layout import DLIB68
 from ..mouth.measure import mouth_width
 from ..options import GLOBAL_WARPS, IMAGE_WARPS, Options
-from ..pipeline.cloner import Cloner, CloneResult
+from ..pipeline import request as door
+from ..pipeline.request import Request
+from ..pipeline.result import CloneResult
 from ..pipeline.role_check import descriptor, identity_distance
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .judge import trained_without
@@ -148,14 +150,15 @@ def clone_pair(
     data: Dataset, pair: tuple[str, str], methods: tuple[str, ...], landmarks: dict[str, np.ndarray], options: Options | None = None
 ) -> dict[str, CloneResult]:
     """A's smile cloned onto B by ``methods`` (with the clone ``options``), with the landmarks already found: the
-    :class:`~exprclone.pipeline.cloner.Cloner` that :func:`exprclone.clone_methods` runs, without its role check (the
-    data's roles are known; its descriptors would cost as much as a clone)."""
+    request :func:`exprclone.clone_methods` makes, its roles vouched for (the data's roles are known; the role check's
+    descriptors would cost as much as a clone)."""
     sn, se, tn = data.path(pair[0], False), data.path(pair[0], True), data.path(pair[1], False)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         with naming({SOURCE_NEUTRAL: sn, SOURCE_EXPRESSION: se, TARGET_NEUTRAL: tn}):
-            cloner = Cloner(photo(sn), landmarks[sn], photo(tn), landmarks[tn], options)
-            return cloner.clone_methods(photo(se), landmarks[se], methods)
+            given = (landmarks[sn], landmarks[se], landmarks[tn])
+            request = Request.of(photo(sn), photo(se), photo(tn), landmarks=given, options=options, check_roles=False)
+            return door.prepare(request, methods).render()
 
 
 def _candidates(

@@ -35,7 +35,7 @@ from ..mouth.measure import interior, mouth_width
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 
 if TYPE_CHECKING:
-    from ..pipeline.cloner import CloneResult
+    from ..pipeline.result import CloneResult
 
 #: teeth show from this area of tooth-coloured pixels on, in squared mouth widths: 12 mm²
 #: in a 55 mm wide smile, a sliver one front tooth wide and 1.5 mm high. On the London
@@ -192,7 +192,7 @@ def material_swaps(result: CloneResult, source_neutral: np.ndarray, source_expre
 
     Parameters
     ----------
-    result : exprclone.pipeline.cloner.CloneResult
+    result : exprclone.pipeline.result.CloneResult
     source_neutral, source_expression : ndarray of shape (h, w, 3), uint8 RGB
         The source's photos the result was made from.
     layout : Layout

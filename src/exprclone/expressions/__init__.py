@@ -24,15 +24,15 @@ from __future__ import annotations
 
 import functools
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
+from .. import data
 from ..errors import ExprCloneError
+from ..pipeline.clone import clone as clone_pair
+from ..pipeline.result import CloneResult
 from .files import Expression, read
-
-if TYPE_CHECKING:
-    from ..pipeline.clone import CloneResult
 
 __all__ = ["Expression", "clone", "folder", "load", "names"]
 
@@ -42,8 +42,6 @@ DEFAULT = "smile"
 
 def folder() -> Path:
     """The folder of the built-in expressions (inside the installed package)."""
-    from .. import data
-
     return data.folder() / "expressions"
 
 
@@ -106,8 +104,6 @@ def clone(
     >>> result.image.shape
     (1350, 1350, 3)
     """
-    from ..pipeline.clone import clone as clone_pair
-
     chosen = expression if isinstance(expression, Expression) else load(expression)
     landmarks = (chosen.neutral.points, chosen.expression.points, target_landmarks)
     return clone_pair(chosen.neutral.image, chosen.expression.image, target_neutral, landmarks=landmarks, **options)

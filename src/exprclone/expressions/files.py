@@ -21,9 +21,11 @@ from pathlib import Path
 from typing import IO, Any
 
 import numpy as np
+from PIL import Image
 
 from ..errors import ExprCloneError
 from ..io.documents import parse_json
+from ..io.images import atomic_write, load_image
 from ..landmarks.layout import DLIB68
 from ..pipeline.checks import check_points
 from .composite import Face
@@ -68,8 +70,6 @@ def read(path: str | os.PathLike[str]) -> Expression:
         About the file: unreadable, not such a JSON document, a photo missing or
         unreadable, landmarks of the wrong count or outside their photo.
     """
-    from ..io.images import load_image
-
     path = Path(path)
     try:
         document = parse_json(path.read_text(), str(path))
@@ -93,8 +93,6 @@ def read(path: str | os.PathLike[str]) -> Expression:
 
 def _jpeg(image: np.ndarray, out: IO[bytes]) -> None:
     """The image as a JPEG of :data:`QUALITY`, to ``out``."""
-    from PIL import Image
-
     Image.fromarray(image).save(out, format="JPEG", quality=QUALITY)
 
 
@@ -114,8 +112,6 @@ def write(expression: Expression, folder: str | os.PathLike[str], images: dict[s
     Path
         The JSON file.
     """
-    from ..io.images import atomic_write
-
     folder, images = Path(folder), dict(images or {})
     for part, face in zip(PARTS, (expression.neutral, expression.expression)):
         if part not in images:

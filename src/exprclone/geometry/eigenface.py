@@ -112,8 +112,11 @@ class Eigenfaces:
         Coefficients are whitened (divided by :attr:`stddev`), so Euclidean distances
         between features are Mahalanobis distances in face space: the expected squared
         distance between two training faces is ``2 K``.
+
+        The product is NumPy's own (einsum), not BLAS's: OpenBLAS shares a product of this size between threads, which
+        on a busy machine wait for a core (a DB search of 13 candidates took 150 ms instead of 13 on two loaded cores).
         """
-        return (normalise(crops) - self.mean) @ self.components.T / self.stddev
+        return np.einsum("ij,kj->ik", normalise(crops) - self.mean, self.components.astype(np.float64)) / self.stddev
 
     def save(self, path: str | os.PathLike[str]) -> None:
         np.savez_compressed(path, mean=self.mean, components=self.components, stddev=self.stddev, size=self.size)

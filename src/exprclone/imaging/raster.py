@@ -52,12 +52,15 @@ def shrink(image: np.ndarray, step: int) -> np.ndarray:
     return cv2.resize(image[: h * step, : w * step], (w, h), interpolation=cv2.INTER_AREA)
 
 
-def enlarge(image: np.ndarray, shape: tuple[int, int], step: int) -> np.ndarray:
-    """Undo :func:`shrink` to ``shape`` (bilinear; the left-out edge repeats its neighbour)."""
-    if step == 1:
+def enlarge(image: np.ndarray, shape: tuple[int, int], step: int, out: np.ndarray | None = None) -> np.ndarray:
+    """Undo :func:`shrink` to ``shape`` (bilinear; the left-out edge repeats its neighbour), into ``out`` if given."""
+    if step == 1 and out is None:
         return image
+    out = np.empty(tuple(shape) + image.shape[2:], image.dtype) if out is None else out
+    if step == 1:
+        out[...] = image
+        return out
     h, w = image.shape[0] * step, image.shape[1] * step
-    out = np.empty(tuple(shape) + image.shape[2:], image.dtype)
     cv2.resize(image, (w, h), dst=out[:h, :w], interpolation=cv2.INTER_LINEAR)  # in place: a padded copy costs 10 times the resize
     out[:h, w:] = out[:h, w - 1 : w]
     out[h:] = out[h - 1 : h]

@@ -29,15 +29,13 @@ from av.video.reformatter import ColorRange, Colorspace
 
 from ..errors import ExprCloneError
 from .images import PathLike, atomic_write, check_output_path, check_size
+from .soundtrack import Soundtrack
 
 CRF = 18
 """x264 constant rate factor: 18 is close to visually lossless; each +6 halves the size."""
 
 PRESET = "veryfast"
 """x264 speed preset."""
-
-AUDIO_BIT_RATE = 128_000
-"""AAC bit rate, in bits per second."""
 
 _MUXERS: dict[str, tuple[str, dict[str, str]]] = {
     ".mp4": ("mp4", {"movflags": "+faststart"}),  # index first, so that a browser can start playing at once
@@ -47,7 +45,6 @@ _MUXERS: dict[str, tuple[str, dict[str, str]]] = {
 #: file extensions a video can be written as.
 EXTENSIONS = tuple(_MUXERS)
 _STILL_IMAGE_FORMATS = ("image2", "image2pipe")  # FFmpeg also reads photos, as one-frame videos
-_AAC = av.Codec("aac", "w")
 # The colour tags (FFmpeg's AVCOL_* codes) written: BT.709 matrix, primaries and transfer, limited
 # range, as we convert RGB to YUV; players then convert back as we converted.
 _COLOR_TAGS = {"colorspace": 1, "color_primaries": 1, "color_trc": 1, "color_range": ColorRange.MPEG}
@@ -318,7 +315,7 @@ def _encode(
         video.pix_fmt = "yuv420p"
         for tag, value in _COLOR_TAGS.items():
             setattr(video.codec_context, tag, value)
-        sound = _Soundtrack(audio_from, stack.enter_context(_open_input(audio_from)), output) if audio_from is not None else None
+        sound = Soundtrack(audio_from, stack.enter_context(_open_input(audio_from)), output) if audio_from is not None else None
         count = 0
         for frame in frames:
             picture = av.VideoFrame.from_ndarray(_even(frame), format="rgb24")
@@ -332,82 +329,6 @@ def _encode(
         if sound is not None:
             sound.finish()
     return count
-
-
-class _Soundtrack:
-    """The sound of a video, re-encoded as AAC into an output in step with the frames written there.
-
-    Sample ``n`` of the output is the source's sound at ``n / rate`` seconds after the start of the
-    source's video stream (silence before the source's sound starts).
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The source, for error messages.
-    source : av.container.InputContainer
-        The source opened, with an audio stream.
-    output : av.container.OutputContainer
-        Where to add the AAC stream and write its packets.
-    """
-
-    def __init__(self, path: PathLike, source: av.container.InputContainer, output: av.container.OutputContainer) -> None:
-        audio = source.streams.audio[0]
-        rate = audio.codec_context.sample_rate
-        self.rate = rate if rate in (_AAC.audio_rates or ()) else 48_000
-        self.layout = "mono" if audio.codec_context.channels == 1 else "stereo"
-        self.stream = output.add_stream("aac", rate=self.rate, layout=self.layout)
-        self.stream.bit_rate = AUDIO_BIT_RATE
-        self.output = output
-        self.path = path
-        video = source.streams.video[0]
-        self.start = Fraction(video.start_time or 0) * _time_base(video.time_base, path)
-        self.decoded = source.decode(audio)
-        self.resampler = av.AudioResampler(format="fltp", layout=self.layout, rate=self.rate)
-        self.fifo = av.AudioFifo()
-        self.to_skip: int | None = None  # samples before the video's start, once the first is decoded
-        self.written = 0
-
-    def write_until(self, seconds: Fraction) -> None:
-        """Encode the sound up to ``seconds`` into the video (less if the source's sound ends first)."""
-        end = round(seconds * self.rate)
-        while self.written + self.fifo.samples < end and self._decode_more():
-            pass
-        samples = min(end - self.written, self.fifo.samples)
-        if samples > 0:
-            frame = self.fifo.read(samples)  # PyAV re-cuts it into the encoder's frame size
-            if frame is None:  # not reached: the FIFO holds at least ``samples``
-                return
-            frame.pts, frame.time_base = self.written, Fraction(1, self.rate)
-            self.output.mux(self.stream.encode(frame))
-            self.written += samples
-
-    def finish(self) -> None:
-        """Flush the encoder."""
-        self.output.mux(self.stream.encode())
-
-    def _decode_more(self) -> bool:
-        """Move the next decoded frame of sound into the FIFO, aligned to the video; False at the end."""
-        try:
-            decoded = next(self.decoded, None)
-        except av.FFmpegError as exc:
-            raise ExprCloneError(self.path, f"audio data is corrupt ({exc.strerror})") from exc
-        if self.to_skip is None and decoded is not None and decoded.pts is not None:
-            lead = round((decoded.pts * _time_base(decoded.time_base, self.path) - self.start) * self.rate)
-            if lead > 0:
-                silence = av.AudioFrame.from_ndarray(
-                    np.zeros((self.stream.codec_context.channels, lead), np.float32), format="fltp", layout=self.layout
-                )
-                silence.sample_rate = self.rate
-                self.fifo.write(silence)
-            self.to_skip = max(0, -lead)
-        for frame in self.resampler.resample(decoded):
-            frame.pts = None  # the FIFO would insist on gapless timestamps from 0
-            self.fifo.write(frame)
-            if self.to_skip:
-                skipped = min(self.to_skip, self.fifo.samples)
-                self.fifo.read(skipped)
-                self.to_skip -= skipped
-        return decoded is not None
 
 
 def _even(frame: np.ndarray) -> np.ndarray:
@@ -492,13 +413,6 @@ def _frame_rate(path: PathLike, stream: av.video.stream.VideoStream) -> Fraction
     if not fps:
         raise ExprCloneError(path, "video has no frame rate")
     return Fraction(fps)
-
-
-def _time_base(time_base: Fraction | None, path: PathLike) -> Fraction:
-    """A stream's (or a frame's) time base: seconds per tick of its timestamps; FFmpeg gives every stream one."""
-    if time_base is None:
-        raise ExprCloneError(path, "a stream has no time base")
-    return time_base
 
 
 def _estimated_frames(container: av.container.InputContainer, stream: av.video.stream.VideoStream, fps: Fraction) -> int:

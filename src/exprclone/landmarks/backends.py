@@ -73,7 +73,7 @@ def for_thread(name: str) -> Landmarker:
     be used by two threads at once; it loads in milliseconds), dlib's the shared one (its model takes most of a
     second to load, and keeps no state between calls)."""
     if check_landmarker(name) == "mesh":
-        from .facemesh import MeshDetector
+        from .facemesh import MeshDetector  # (each landmarker's runtime loaded when it is chosen)
 
         return MeshDetector()
     return shared(name)
@@ -97,10 +97,10 @@ def name_of(landmarker: str | Landmarker) -> str:
 def shared(name: str) -> Landmarker:
     """The process's one landmarker of that name (:data:`LANDMARKERS`), loaded lazily on its first detection."""
     if check_landmarker(name) == "mesh":
-        from .facemesh import MeshDetector
+        from .facemesh import MeshDetector  # (each landmarker's runtime loaded when it is chosen)
 
         return MeshDetector()
-    from .dlib import Detector
+    from .dlib import Detector  # (each landmarker's runtime loaded when it is chosen)
 
     return Detector()
 

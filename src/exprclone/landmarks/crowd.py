@@ -62,7 +62,7 @@ ROW = 0.5
 @functools.cache
 def hog() -> Any:
     """dlib's HOG face detector (five upright and turned filters), loaded once (dlib has no type information)."""
-    import dlib
+    import dlib  # (heavy: loaded when a face is looked at)
 
     return dlib.get_frontal_face_detector()
 

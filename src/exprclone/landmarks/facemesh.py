@@ -77,7 +77,7 @@ class _Model:
 
     def __init__(self, name: str) -> None:
         try:
-            from ai_edge_litert.interpreter import Interpreter
+            from ai_edge_litert.interpreter import Interpreter  # (LiteRT: loaded with its model, when chosen)
         except ImportError:
             raise ExprCloneError("landmarker mesh", f"needs the LiteRT runtime: {INSTALL}") from None
         path = resources.files(__package__) / "mediapipe_models" / name

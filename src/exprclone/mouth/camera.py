@@ -9,7 +9,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..imaging import raster
+from ..imaging import order, raster
 
 #: the second blur of the gradient-ratio sharpness estimate (pixels).
 REBLUR = 1.0
@@ -55,10 +55,10 @@ def blur_sigma(image: np.ndarray) -> float:
         return cv2.magnitude(cv2.Sobel(im, cv2.CV_32F, 1, 0), cv2.Sobel(im, cv2.CV_32F, 0, 1))
 
     g = gradient(luma)
-    edges = g >= max(np.percentile(g, 100 * (1 - EDGE_SHARE)), 1e-3)
+    edges = g >= max(order.percentile(g, 100 * (1 - EDGE_SHARE)), 1e-3)
     ratio = g[edges] / np.maximum(gradient(cv2.GaussianBlur(luma, (0, 0), REBLUR))[edges], 1e-6)
     ratio = ratio[ratio > 1.0 + 1e-4]
-    return float(np.median(REBLUR / np.sqrt(ratio**2 - 1))) if len(ratio) else 0.0
+    return float(order.median(REBLUR / np.sqrt(ratio**2 - 1))) if len(ratio) else 0.0
 
 
 def noise_sigma(image: np.ndarray) -> np.ndarray:
@@ -91,5 +91,7 @@ def noise_sigma(image: np.ndarray) -> np.ndarray:
     [5.0, 5.0, 5.0]
     """
     mask = np.array([[1, -2, 1], [-2, 4, -2], [1, -2, 1]], np.float32)
-    response = cv2.filter2D(np.asarray(image, np.float32), -1, mask)[1:-1, 1:-1]
-    return np.median(np.abs(response).reshape(-1, image.shape[2]), axis=0) / (0.6745 * 6)
+    response = cv2.filter2D(np.asarray(image, np.float32), -1, mask)
+    np.abs(response, out=response)
+    # a channel at a time, each contiguous (cv2.split): the median of interleaved channels took 2.5 times as long
+    return np.array([order.median(channel) for channel in cv2.split(response[1:-1, 1:-1])]) / (0.6745 * 6)

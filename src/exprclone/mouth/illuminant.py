@@ -171,13 +171,24 @@ def midmean(values: np.ndarray) -> np.ndarray:
     below = np.floor(ranks).astype(int)
     out = np.empty(values.shape[1])
     for c in range(values.shape[1]):
-        hist = np.bincount(values[:, c], minlength=256)
+        hist = histogram(values, c)
         count = np.cumsum(hist)
         low_value, next_value = np.searchsorted(count, [below, np.minimum(below + 1, len(values) - 1)], side="right")
         low, high = low_value + (ranks - below) * (next_value - low_value)
         middle = (LEVELS >= low) & (LEVELS <= high)
         out[c] = (LEVELS * hist)[middle].sum() / max(hist[middle].sum(), 1)
     return out
+
+
+def histogram(values: np.ndarray, column: int) -> np.ndarray:
+    """The counts of each 8-bit level in one column of ``values`` (``(K, C)`` uint8), ``(256,)`` int.
+
+    OpenCV's, a fifth of the time of :func:`numpy.bincount` on a column, whose counts it gives exactly while they are
+    whole float32 numbers (below 2**24 pixels).
+    """
+    if len(values) >= 1 << 24 or not len(values):
+        return np.bincount(values[:, column], minlength=256)
+    return cv2.calcHist([values.reshape(len(values), 1, -1)], [column], None, [256], [0, 256]).reshape(-1).astype(int)
 
 
 def split(log_rgb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..imaging import raster
+from ..imaging import order, raster
 from ..landmarks import align
 from ..landmarks.layout import Layout
 
@@ -70,8 +70,17 @@ def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout, gain: np.
     -------
     teeth, cavity : ndarray of shape (H, W), bool
     """
+    box, teeth_in_box, cavity_in_box = interior_in_box(image, landmarks, layout, gain)
     teeth = np.zeros(image.shape[:2], bool)
     cavity = teeth.copy()
+    teeth[box], cavity[box] = teeth_in_box, cavity_in_box
+    return teeth, cavity
+
+
+def interior_in_box(
+    image: np.ndarray, landmarks: np.ndarray, layout: Layout, gain: np.ndarray | None = None
+) -> tuple[tuple[slice, slice], np.ndarray, np.ndarray]:
+    """:func:`interior` in the box of the outer lips, where it may be found: the box, and the teeth and the cavity in it."""
     box = align.box(landmarks[list(layout.mouth_outer)], image.shape)
     crop, corner = image[box], (box[1].start, box[0].start)
     if gain is not None:
@@ -82,13 +91,12 @@ def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout, gain: np.
     raster.fill_polygon(outer, landmarks[list(layout.mouth_outer)] - corner, 1)
     lip, inner = (outer > 0) & (inner == 0), inner > 0
     if not lip.any() or not inner.any():
-        return teeth, cavity
+        return box, np.zeros_like(inner), np.zeros_like(inner)
     saturation = cv2.cvtColor(crop, cv2.COLOR_RGB2HSV)[..., 1].astype(np.float32)
     luma = raster.luma(crop.astype(np.float32))
-    lip_luma = np.median(luma[lip])
-    teeth[box] = inner & (saturation < TOOTH_SATURATION * np.median(saturation[lip])) & (luma > lip_luma)
-    cavity[box] = inner & (luma < CAVITY * lip_luma)
-    return teeth, cavity
+    lip_luma = order.median(luma[lip])
+    teeth = inner & (saturation < TOOTH_SATURATION * order.median(saturation[lip])) & (luma > lip_luma)
+    return box, teeth, inner & (luma < CAVITY * lip_luma)
 
 
 def fade_in(value: float, band: tuple[float, float]) -> float:

@@ -32,7 +32,7 @@ from ..landmarks import align
 from ..landmarks.layout import Layout
 from . import teeth
 from .camera import blur_sigma, noise_sigma
-from .measure import INTERIOR, OPENING, fade_in, interior, mouth_width, opening
+from .measure import INTERIOR, OPENING, fade_in, interior_in_box, mouth_width, opening
 from .tone import Reference, below_white, face_box, source_light, tone_gain
 
 #: feather of the blend, in mouth widths.
@@ -106,6 +106,8 @@ def fill_interior(
     measure: Callable[[], Reference],
     layout: Layout,
     amount: float = 1.0,
+    *,
+    in_place: bool = False,
 ) -> tuple[np.ndarray, np.ndarray | None]:
     """Paste the source's mouth interior inside the target's final inner lips.
 
@@ -124,6 +126,8 @@ def fill_interior(
     amount : float
         Share of the source's mouth motion transferred, at most 1 (expression strength,
         :attr:`exprclone.geometry.weights.Transfer.paste`): the paste's weight is scaled by it.
+    in_place : bool
+        Paste into ``image`` itself (a caller's own copy), not into a copy of it.
 
     Returns
     -------
@@ -137,8 +141,9 @@ def fill_interior(
     if weight == 0:
         return image, None
     reference = measure()
-    gain = tone_gain(source, source_landmarks, reference, layout)
-    parts = interior(source, source_landmarks, layout, gain)
+    light = source_light(source, source_landmarks, reference, layout)
+    gain = tone_gain(source, source_landmarks, reference, layout, light=light)
+    mouth_box, *parts = interior_in_box(source, source_landmarks, layout, gain)
     shown = sum(int(part.sum()) for part in parts)
     weight *= fade_in(shown / mouth_width(source_landmarks, layout) ** 2, INTERIOR)
     if weight == 0:
@@ -155,8 +160,9 @@ def fill_interior(
     polygon = raster.fill_polygon(np.zeros(patch.shape[:2], np.float32), local[len(layout.mouth_outer) : len(mouth)], 1.0)
 
     gain = below_white(gain, patch[polygon > 0])
-    seen = reference.source_interior or teeth.Interior.read((source[parts[0]], source[parts[1]]), mouth_width(source_landmarks, layout))
-    patch = teeth.recolour(patch, np.log(gain), seen, reference.light, source_light(source, source_landmarks, reference, layout), width)
+    pixels = source[mouth_box]
+    seen = reference.source_interior or teeth.Interior.read((pixels[parts[0]], pixels[parts[1]]), mouth_width(source_landmarks, layout))
+    patch = teeth.recolour(patch, np.log(gain), seen, reference.light, light, width)
     scale = align.interocular(final, layout) / align.interocular(source_landmarks, layout)
     patch = match_grain(patch, source, source_landmarks, reference, scale, gain)
 
@@ -166,7 +172,7 @@ def fill_interior(
     k = max(1, int(round(sigma)))
     mask = cv2.GaussianBlur(raster.erode(polygon, k), (0, 0), sigma) * polygon * weight
 
-    out = image.copy()
+    out = image if in_place else image.copy()
     region = out[box].astype(np.float32)
     out[box] = np.clip(region + mask[..., None] * (patch - region) + 0.5, 0, 255).astype(np.uint8)
     full = np.zeros(image.shape[:2], np.float32)

@@ -97,6 +97,7 @@ def tone_gain(
     reference: Reference,
     layout: Layout,
     pasted: np.ndarray | None = None,
+    light: illuminant.Light | None = None,
 ) -> np.ndarray:
     """Per-channel gain that gives the source photo's pixels the target photo's exposure and light.
 
@@ -120,12 +121,15 @@ def tone_gain(
     layout : Layout
     pasted : ndarray of shape (K, 3), optional
         The source pixels the gain is for.
+    light : illuminant.Light, optional
+        The source's light (:func:`source_light`), when the caller has read it.
 
     Returns
     -------
     ndarray of shape (3,)
     """
-    gain = np.clip(illuminant.gain(reference.light, source_light(source, source_landmarks, reference, layout)), *GAIN_RANGE)
+    light = source_light(source, source_landmarks, reference, layout) if light is None else light
+    gain = np.clip(illuminant.gain(reference.light, light), *GAIN_RANGE)
     return gain if pasted is None else below_white(gain, pasted)
 
 

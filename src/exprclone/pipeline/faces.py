@@ -10,6 +10,7 @@ expression (:mod:`exprclone.pipeline.cloner`).
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import functools
 from collections.abc import Sequence
@@ -82,7 +83,7 @@ class Faces:
     @functools.cached_property
     def ratio_faces(self) -> RatioFaces:
         """The source's neutral photo and the target's prepared for the ERI (:class:`~exprclone.details.stage.RatioFaces`)."""
-        return RatioFaces.prepare(self.mesh, self.source_image, self.source_neutral_ctrl, self.target_image, self.layout)
+        return RatioFaces.of(self.mesh, self.source_image, self.source_neutral_ctrl, self.target_image, self.layout)
 
     @functools.cached_property
     def mouth_reference(self) -> tone.Reference:
@@ -97,9 +98,9 @@ class Faces:
         motion = ExpressionPhoto.motion_of(still, self.s_neu, self.t_neu, self.source_neutral_ctrl, mesh, layout)
         return self.ratio_faces.expression(image, placed, motion, mesh)
 
-    def pool_interior(self, frames: Sequence[np.ndarray], points: Sequence[np.ndarray]) -> None:
-        """Read the source's teeth and cavity, and its camera's grain, once, pooled over frames of a performance, for
-        every paste after.
+    def pooled(self, frames: Sequence[np.ndarray], points: Sequence[np.ndarray]) -> Faces:
+        """The same faces with the source's teeth and cavity, and its camera's grain, read once, pooled over frames of a
+        performance, for every paste after (these faces are left as they are).
 
         Each frame's interior (:func:`exprclone.mouth.measure.interior`) is taken in the target's light; the pool
         (:attr:`exprclone.mouth.tone.Reference.source_interior`) gives every later paste its colour, the same in every
@@ -113,10 +114,15 @@ class Faces:
             Frames whose mouth is open; nothing is read without any.
         points : sequence of ndarray of shape (N, 2)
             Their landmarks.
+
+        Returns
+        -------
+        Faces
+            A copy whose :attr:`mouth_reference` holds the pool (the rest shared with these faces).
         """
         reference, layout = self.mouth_reference, self.layout
         if not len(frames):
-            return
+            return self
         points = [lips.uncross(p, layout) for p in points]
         parts = [measure.interior(f, p, layout, tone.tone_gain(f, p, reference, layout)) for f, p in zip(frames, points)]
         pixels = (np.concatenate([f[m[0]] for f, m in zip(frames, parts)]), np.concatenate([f[m[1]] for f, m in zip(frames, parts)]))
@@ -124,4 +130,6 @@ class Faces:
         iod = align.interocular(self.t_neu, layout)
         grains = [paste.grain(f, p, reference, iod / align.interocular(p, layout)) for f, p in zip(frames, points)]
         pooled_grain = (float(np.median([g[0] for g in grains])), np.median([g[1] for g in grains], axis=0))
-        self.mouth_reference = dataclasses.replace(reference, source_interior=pooled, source_grain=pooled_grain)
+        other = copy.copy(self)
+        other.mouth_reference = dataclasses.replace(reference, source_interior=pooled, source_grain=pooled_grain)
+        return other

@@ -42,7 +42,8 @@ from ..landmarks.layout import Layout
 from ..methods import Method
 from ..options import Options
 from .checks import check_face
-from .cloner import CloneResult, FaceResult, Prepared
+from .cloner import Prepared
+from .result import CloneResult, FaceResult
 
 #: a region grows its face's landmark box by this many of the face's widths on every side (a London photo's clone made
 #: on its face's region so differs from its clone made on the whole photo by at most 10 levels, 63 dB).

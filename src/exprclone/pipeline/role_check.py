@@ -83,12 +83,13 @@ SMILE = np.array(_LEARNT["smile"], float)
 
 
 @dataclass(frozen=True)
-class Photo:
-    """What the role check takes of a photo: its landmarks, its eye-aligned grey crop
+class Face:
+    """A face as the role check sees it: its landmarks, its eye-aligned grey crop
     (:func:`exprclone.geometry.eigenface.crop`), and the photo for its descriptor, made when first asked for.
 
-    A clone whose lambda_k the DB metric chooses compares the same crop of the source's expression
-    (:func:`exprclone.geometry.db_metric.choose_lambda`): :func:`exprclone.clone_methods` makes it once for both.
+    The door keeps it with its photo (:meth:`exprclone.pipeline.request.Photo.seen`). A clone whose lambda_k the DB
+    metric chooses compares the same crop of the source's expression (:func:`exprclone.geometry.db_metric.choose_lambda`):
+    the door makes it once for both.
     """
 
     points: np.ndarray
@@ -96,7 +97,7 @@ class Photo:
     image: np.ndarray = field(repr=False, compare=False)
 
     @classmethod
-    def of(cls, image: np.ndarray, points: np.ndarray, layout: Layout) -> Photo:
+    def of(cls, image: np.ndarray, points: np.ndarray, layout: Layout) -> Face:
         """The role check's view of an ``(H, W, 3)`` photo with its ``(N, 2)`` landmarks."""
         return cls(points, crop(image, points, layout), image)
 
@@ -108,14 +109,14 @@ class Photo:
 
 @functools.cache
 def _model():  # type: ignore[no-untyped-def]  # (dlib has no type information)
-    import dlib
+    import dlib  # (heavy: loaded when a face is looked at)
 
     return dlib.face_recognition_model_v1(model_path("dlib_face_recognition_resnet_model_v1.dat"))
 
 
 def descriptor(image: np.ndarray, points: np.ndarray) -> np.ndarray:
     """dlib's 128-d descriptor of the face with these 68 landmarks in an ``(H, W, 3)`` uint8 RGB photo."""
-    import dlib
+    import dlib  # (heavy: loaded when a face is looked at)
 
     lo, hi = points.min(0), points.max(0)
     box = dlib.rectangle(*(int(v) for v in (lo[0], lo[1], hi[0], hi[1])))
@@ -128,7 +129,7 @@ def identity_distance(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.linalg.norm(a - b))
 
 
-def appearance_distance(a: Photo, b: Photo, layout: Layout) -> float:
+def appearance_distance(a: Face, b: Face, layout: Layout) -> float:
     """How unlike two faces look, beyond an expression (see the module's notes): 0 for one photo twice."""
     crops = normalise(np.stack([p.crop[IDENTITY_ROWS] for p in (a, b)]))
     idx = [k for k in layout.rigid if k not in layout.jaw]  # the nose bridge and the eye corners
@@ -138,7 +139,7 @@ def appearance_distance(a: Photo, b: Photo, layout: Layout) -> float:
     return float(np.linalg.norm(crops[0] - crops[1])) + SHAPE_WEIGHT * shape
 
 
-def one_person(a: Photo, b: Photo, layout: Layout) -> bool:
+def one_person(a: Face, b: Face, layout: Layout) -> bool:
     """Whether two photos show one person: alike at a first look (:data:`SURELY_SAME`), or by their descriptors."""
     return appearance_distance(a, b, layout) < SURELY_SAME or identity_distance(a.descriptor, b.descriptor) < SAME_PERSON
 
@@ -168,15 +169,15 @@ def swapped(neutral: np.ndarray, expression: np.ndarray, layout: Layout) -> bool
     return more > MIN_SWAP or (smile(neutral, layout) > smile(expression, layout) and more > -GATE)
 
 
-def judge_roles(neutral: Photo, expression: Photo, layout: Layout, target: Photo | None = None) -> list[str]:
+def judge_roles(neutral: Face, expression: Face, layout: Layout, target: Face | None = None) -> list[str]:
     """What looks wrong with the photos, as messages (none when they look right).
 
     Parameters
     ----------
-    neutral, expression : Photo
+    neutral, expression : Face
         The source's photos as given: its neutral face, and its expression.
     layout : Layout
-    target : Photo, optional
+    target : Face, optional
         The target's photo as given: when the source's two photos show two people, whether it shows one of them says
         which photos were swapped.
 

@@ -5,8 +5,8 @@ motion cleaned and the organs local re-shaping aims at made the target's. Each s
 (:data:`SHAPE_STAGES`) then computes its landmarks from the ones before it (:func:`shapes`): the
 global stage by the global warp the options name (:data:`GLOBAL_WARPERS`, keyed by
 :attr:`exprclone.options.Options.global_warp`) unless they give GI, or by a method's own (Song et al.'s
-VTC); the elastic stage with
-lambda_k given or chosen by the DB metric. What a user may choose is :mod:`exprclone.options`'.
+VTC: :func:`method_shapes`); the elastic stage with lambda_k given or chosen by the DB metric. What a user may
+choose is :mod:`exprclone.options`'.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from .faces import Faces
 
 
 @dataclass(frozen=True)
-class Expression:
+class SourceExpression:
     """One source expression to clone (:func:`expression` makes it).
 
     Attributes
@@ -72,38 +72,42 @@ class Shape:
     db_curve: db_metric.DBCurve | None = None
 
 
-def similarity_warp(faces: Faces, expression: Expression) -> np.ndarray:
+def similarity_warp(faces: Faces, expression: SourceExpression) -> np.ndarray:
     """GI of the paper: the source's motion, similarity-aligned, on the target (:func:`exprclone.geometry.global_warp.global_landmarks`)."""
     return global_warp.global_landmarks(faces.s_neu, expression.moving, faces.t_neu, faces.layout)
 
 
-def rbf_warp(faces: Faces, expression: Expression) -> np.ndarray:
+def rbf_warp(faces: Faces, expression: SourceExpression) -> np.ndarray:
     """GI of Seol and Lewis: each landmark's motion by the RBF map's Jacobian (:func:`exprclone.geometry.global_warp.rbf_landmarks`)."""
     return global_warp.rbf_landmarks(faces.s_neu, expression.moving, faces.t_neu, faces.layout, faces.rbf_jacobians)
 
 
-def vtc_warp(faces: Faces, expression: Expression) -> np.ndarray:
+def vtc_warp(faces: Faces, expression: SourceExpression) -> np.ndarray:
     """GI of Song et al.: each vertex tent's change made the target's (:func:`exprclone.geometry.vtc.vtc_landmarks`)."""
     return vtc.vtc_landmarks(faces.s_neu, expression.moving, faces.t_neu, faces.layout, faces.tents)
 
 
 #: the global warps by name (:data:`exprclone.options.GLOBAL_WARPS`), each ``(faces, expression) -> GI landmarks``.
-GLOBAL_WARPERS: dict[str, Callable[[Faces, Expression], np.ndarray]] = {"similarity": similarity_warp, "rbf": rbf_warp, "vtc": vtc_warp}
+GLOBAL_WARPERS: dict[str, Callable[[Faces, SourceExpression], np.ndarray]] = {
+    "similarity": similarity_warp,
+    "rbf": rbf_warp,
+    "vtc": vtc_warp,
+}
 
 
-def global_stage(faces: Faces, options: Options, expression: Expression, shapes: dict[str, Shape]) -> Shape:
+def global_stage(faces: Faces, options: Options, expression: SourceExpression, shapes: dict[str, Shape]) -> Shape:
     """GI: given from outside, the result of any other method (Fig. 21), else by the global warp of the options
     (:data:`GLOBAL_WARPERS`)."""
     given = options.global_landmarks
     return Shape(given if given is not None else GLOBAL_WARPERS[options.global_warp](faces, expression))
 
 
-def local_stage(faces: Faces, options: Options, expression: Expression, shapes: dict[str, Shape]) -> Shape:
-    """LI: each organ of GI re-shaped to the expression's organs (:attr:`Expression.organs`), Eqs. (1)-(2)."""
+def local_stage(faces: Faces, options: Options, expression: SourceExpression, shapes: dict[str, Shape]) -> Shape:
+    """LI: each organ of GI re-shaped to the expression's organs (:attr:`SourceExpression.organs`), Eqs. (1)-(2)."""
     return Shape(local_warp.local_landmarks(shapes["global"].points, expression.organs, faces.layout))
 
 
-def elastic_stage(faces: Faces, options: Options, expression: Expression, shapes: dict[str, Shape]) -> Shape:
+def elastic_stage(faces: Faces, options: Options, expression: SourceExpression, shapes: dict[str, Shape]) -> Shape:
     """The elastic model's balance of GI and LI, Eqs. (3)-(6), lambda_k given or chosen by the DB metric, Eqs. (7)-(8)."""
     gl, local = shapes["global"].points, shapes["local"].points
     if expression.lambda_k != "auto":
@@ -119,7 +123,7 @@ def elastic_stage(faces: Faces, options: Options, expression: Expression, shapes
 
 
 #: the shape stages of :data:`exprclone.methods.SHAPES` by name, each computed from the ones before it.
-SHAPE_STAGES: dict[str, Callable[[Faces, Options, Expression, dict[str, Shape]], Shape]] = {
+SHAPE_STAGES: dict[str, Callable[[Faces, Options, SourceExpression, dict[str, Shape]], Shape]] = {
     "global": global_stage,
     "local": local_stage,
     "elastic": elastic_stage,
@@ -128,30 +132,36 @@ SHAPE_STAGES: dict[str, Callable[[Faces, Options, Expression, dict[str, Shape]],
 
 def expression(
     faces: Faces, image: np.ndarray, points: np.ndarray, lambda_k: float | str, retarget: bool, crop: np.ndarray | None
-) -> Expression:
+) -> SourceExpression:
     """One source expression, prepared for the shape stages: with ``retarget``, its motion cleaned and the organs
     local re-shaping aims at made the target's (:mod:`exprclone.geometry.retarget`); without, the paper's (its own
-    points). ``crop`` is its eye-aligned crop if the caller has made it (:attr:`Expression.crop`)."""
+    points). ``crop`` is its eye-aligned crop if the caller has made it (:attr:`SourceExpression.crop`)."""
     points = lips.uncross(points, faces.layout)
     still = global_warp.remove_head_motion(faces.s_neu, points, faces.layout)
     if not retarget:
-        return Expression(image, points, lambda_k, points, points, still, crop)
+        return SourceExpression(image, points, lambda_k, points, points, still, crop)
     cleaned = clean(faces.s_neu, points, faces.layout, still)
     organs = organ_reference(faces.s_neu, cleaned, faces.t_neu, faces.layout)
-    return Expression(image, points, lambda_k, cleaned, organs, still, crop)
+    return SourceExpression(image, points, lambda_k, cleaned, organs, still, crop)
 
 
-def shapes(faces: Faces, options: Options, expression: Expression, methods: tuple[Method, ...]) -> dict[str, Shape]:
-    """The shape stages (:data:`SHAPE_STAGES`) that ``methods`` need, by :meth:`exprclone.methods.Method.key`: on each
-    global warp they start from (the options', or a method's own, :attr:`~exprclone.methods.Method.warp`, which
-    replaces the options' global stage), GI and LI always, and the stages up to the last of their shapes."""
+def shapes(faces: Faces, options: Options, expression: SourceExpression, wanted: set[str]) -> dict[str, Shape]:
+    """The shape stages (:data:`SHAPE_STAGES`) up to the last one ``wanted``; GI and LI always."""
+    done: dict[str, Shape] = {}
+    for name in SHAPES:
+        if name in wanted | {"global", "local"}:
+            done[name] = SHAPE_STAGES[name](faces, options, expression, done)
+    return done
+
+
+def method_shapes(faces: Faces, options: Options, expression: SourceExpression, methods: tuple[Method, ...]) -> dict[str, Shape]:
+    """The shape stages ``methods`` need (:func:`shapes`), each kept by :meth:`exprclone.methods.Method.key`: on the
+    options' global warp, and on each method's own (:attr:`~exprclone.methods.Method.warp`, which replaces the options'
+    global stage)."""
     done: dict[str, Shape] = {}
     for warp in dict.fromkeys(m.warp for m in methods):
         own = [m for m in methods if m.warp == warp]
         chosen = options if warp is None else dataclasses.replace(options, global_warp=warp, global_landmarks=None)
-        chain: dict[str, Shape] = {}
-        for name in SHAPES:
-            if name in {m.shape for m in own} | {"global", "local"}:
-                chain[name] = SHAPE_STAGES[name](faces, chosen, expression, chain)
-        done.update({own[0].key(name): shape for name, shape in chain.items()})
+        made = shapes(faces, chosen, expression, {m.shape for m in own})
+        done.update({own[0].key(name): shape for name, shape in made.items()})
     return done

@@ -13,8 +13,6 @@ import contextlib
 import logging
 import warnings
 from collections.abc import AsyncIterator
-from importlib import resources
-from pathlib import Path
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
@@ -26,13 +24,13 @@ from starlette.exceptions import HTTPException
 
 from .. import __version__
 from ..errors import ExprCloneError, NoFaceError
-from .api import router
-from .jobs import NoSuchJob
-from .limits import Busy, TooMany, UploadLimit
-from .live import router as live_router
 from .openapi import document
+from .routers import ROUTERS
+from .routers.pages import STATIC
+from .runtime.jobs import JobNotDone, NoSuchJob
+from .runtime.limits import Busy, TooMany, UploadLimit
+from .runtime.state import Work
 from .settings import Settings
-from .state import Work
 
 log = logging.getLogger("exprclone.server")
 
@@ -67,6 +65,7 @@ def add_error_answers(app: FastAPI, statuses: dict[type[Exception], int] | None 
     app.add_exception_handler(Busy, lambda request, e: _error(503, str(e), {"Retry-After": str(e.retry_after)}))
     app.add_exception_handler(TooMany, lambda request, e: _error(429, str(e), {"Retry-After": str(e.retry_after)}))
     app.add_exception_handler(NoSuchJob, lambda request, e: _error(404, str(e)))
+    app.add_exception_handler(JobNotDone, lambda request, e: _error(409, str(e)))
     app.add_exception_handler(HTTPException, lambda request, e: _error(e.status_code, str(e.detail), e.headers))
 
     async def internal(request: Request, e: Exception) -> JSONResponse:
@@ -95,10 +94,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app = FastAPI(title="exprclone", version=__version__, lifespan=lifespan, description=description, docs_url=None, redoc_url=None)
     add_error_answers(app)
     document(app)
-    app.include_router(router)
-    app.include_router(live_router)
-    static = Path(str(resources.files(__package__) / "static"))
-    app.mount("/static", StaticFiles(directory=static), name="static")
+    for router in ROUTERS:
+        app.include_router(router)
+    app.mount("/static", StaticFiles(directory=STATIC), name="static")
     if settings.cors:
         app.add_middleware(CORSMiddleware, allow_origins=list(settings.cors), allow_methods=["GET", "POST"])
     app.add_middleware(UploadLimit, max_bytes=int(settings.max_upload_mb * 2**20))

@@ -36,7 +36,9 @@ def options_form(cls: type, chosen: tuple[str, ...] | None = None) -> Callable[.
     for name in names:
         option, value = spec(cls, name), getattr(default, name)
         said = "" if value is None else f" (default: {str(value).lower() if isinstance(value, bool) else value})"
-        extra = ({"enum": list(option.choices)} if option.choices else {}) | dict(option.schema)  # in the schema; checked here
+        # in the schema (as GET /api/options says them: exprclone.server.described); checked here
+        extra = ({"enum": list(option.choices)} if option.choices else {}) | dict(option.schema)
+        extra |= {} if value is None else {"default": value}
         alias = key(cls, name) if key(cls, name) != name else None
         field = Form(alias=alias, description=option.help + said, json_schema_extra=extra or None)
         annotation = Annotated[option.kind, field]  # type: ignore[name-defined]  # absent is None; a form cannot say null

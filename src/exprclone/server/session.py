@@ -1,7 +1,7 @@
 """A live session: a portrait that follows a camera's frames, its neutral face captured from them (:class:`Session`).
 
-It knows nothing of sockets: the WebSocket route (:mod:`exprclone.server.live`) hands it each
-frame, and it runs in a process of its own (:mod:`exprclone.server.rendering`).
+It knows nothing of sockets: the WebSocket route (:mod:`exprclone.server.routers.live`) hands it each
+frame, and it runs in a process of its own (:mod:`exprclone.server.runtime.hosts`).
 """
 
 from __future__ import annotations
@@ -22,7 +22,9 @@ from ..landmarks.backends import for_thread, name_of
 from ..landmarks.layout import DLIB68
 from ..mouth.measure import opening
 from ..options import Options
+from ..pipeline import request as door
 from ..pipeline.cloner import Cloner
+from ..pipeline.request import Photo, Request
 
 #: the neutral face is the frame whose mouth is most closed over this many seconds from the first face.
 NEUTRAL_SECONDS = 1.0
@@ -114,10 +116,12 @@ class Session:
 
     def _cloner(self, window: Window) -> Cloner:
         """The camera's neutral face (the window's frame) and the portrait, prepared with the session's options."""
-        return Cloner(window.frame, window.points, self.portrait, self.portrait_points, self._driving())
+        neutral, portrait = Photo(window.frame, "frame", window.points), Photo(self.portrait, "portrait", self.portrait_points)
+        return door.pair(Request(neutral, None, portrait, self._driving()))
 
     def close(self) -> None:
-        """Release what the session holds: nothing here (a :class:`~exprclone.server.rendering.RemoteSession` gives its process back)."""
+        """Release what the session holds: nothing here (a :class:`~exprclone.server.runtime.hosts.RemoteSession` gives its
+        process back)."""
 
     def status(self, face: bool) -> dict[str, Any]:
         return {"type": "status", "face": face, "neutral": self.driver is not None, "lambda_k": json_number(self.chosen)}
@@ -151,6 +155,6 @@ class Session:
             return driver
         cloner = driver.cloner
         if driving.expression_strength(cloner.faces.s_neu, points[None], cloner.faces.layout)[0] >= LAMBDA_STRENGTH:
-            self.chosen = driving.choose_lambda(cloner, [frame], [points])
+            self.chosen = cloner.choose_lambda([frame], [points])
             self.driver = driver = drive.Driver(cloner.changed(self._driving()))
         return driver

@@ -28,21 +28,21 @@ class Settings:
     video_workers : int
         Processes that run video jobs (apart from the clone workers, so that a long video does not hold up clones).
     max_live : int
-        Live sessions at once (:mod:`exprclone.server.live`; each renders in a process of its own,
-        :mod:`exprclone.server.rendering`).
+        Live sessions at once (:mod:`exprclone.server.routers.live`; each renders in a process of its own,
+        :mod:`exprclone.server.runtime.hosts`).
     live_idle : float
         Seconds a live session may go without a frame before it is closed and its slot freed.
     max_video_seconds : float
         The longest driving video a job takes (read from its headers, and counted as it is decoded).
     max_edits : int
-        Prepared clones kept at once for sliders (:mod:`exprclone.server.edits`).
+        Prepared clones kept at once for sliders (:mod:`exprclone.server.runtime.edits`).
     edit_ttl : float
         Seconds an edit is kept without a render.
     cors : tuple of str
         Origins allowed to call the API from other pages (none by default).
     scheduler : str or None
         A Dask scheduler's address (``tcp://HOST:8786``): the clone, compare and video work runs on its cluster, whose
-        jobs every server started on it shares (:mod:`exprclone.server.cluster`); ``workers`` + ``queue`` then bound the
+        jobs every server started on it shares (:mod:`exprclone.server.runtime.cluster`); ``workers`` + ``queue`` then bound the
         requests at work or waiting on the whole cluster, and ``video_workers`` is not used. None: this machine's
         worker processes.
     """

@@ -5,7 +5,7 @@ the images are served by their random ids, and only those ``study.json`` lists; 
 participant's state lists each set's results by id, in the order shuffled for them
 (:func:`exprclone.study.participants.order`). The key (``key.json``) is never read here.
 
-Every request body is bounded (:class:`exprclone.server.limits.UploadLimit`) and checked,
+Every request body is bounded (:class:`exprclone.server.runtime.limits.UploadLimit`) and checked,
 its shape by the models below and its values by :mod:`exprclone.study.participants`;
 every error is one line of JSON, ``{"error": "..."}``: 400 for a bad request, 404 for an
 unknown participant or image, 409 when the study is full, 413 for a body over the limit,
@@ -36,7 +36,7 @@ from starlette.requests import HTTPConnection, Request
 
 from .. import __version__
 from ..server.app import add_error_answers
-from ..server.limits import Paced, UploadLimit
+from ..server.runtime.limits import Paced, UploadLimit
 from .folder import ID, SUFFIX, Study, read_study
 from .participants import NoSuchParticipant, Participants, Record, StudyFull, order
 

@@ -26,6 +26,7 @@ from typing import Any
 
 from ..errors import ExprCloneError
 from ..io.documents import parse_json
+from ..io.images import atomic_write
 from ..roles import ROLES
 
 #: the files and folders of a study.
@@ -94,8 +95,6 @@ def read_json(path: Path, what: str) -> dict[str, Any]:
 
 def write_json(path: Path, data: dict[str, Any]) -> None:
     """A JSON file written atomically (whole or not at all)."""
-    from ..io.images import atomic_write
-
     atomic_write(path, lambda f: f.write(json.dumps(data, indent=1).encode()))
 
 

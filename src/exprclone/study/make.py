@@ -28,10 +28,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import cv2
+
 from .. import __version__
-from ..batch import job, work
+from ..batch import job
 from ..batch.manifest import Row, photos_of, read_records
+from ..batch.rows import Outcome
 from ..errors import ExprCloneError
+from ..io.images import load_image, save_image
 from ..io.progress import Progress, Quiet
 from ..methods import lookup
 from ..options import Options
@@ -136,7 +140,7 @@ def make(
         taken: set[str] = set()
         copies = copy_photos(manifest, sets, built, max_size, taken)
         rows, items = plan(sets, methods, copies, built, taken)
-        outcomes: dict[int, work.Outcome] = {}
+        outcomes: dict[int, Outcome] = {}
         job.run(rows, options, backend, outcomes, progress=progress)
         check_outcomes(manifest, sets, rows, outcomes, {str(built / IMAGES / f"{i}{SUFFIX}"): p for p, i in copies.items()})
         for ids in items:  # a result's file size would hint at its method
@@ -156,10 +160,6 @@ def copy_photos(manifest: str, sets: list[Triple], built: Path, size: int | None
 
     A photo that cannot be read stops the study: ExprCloneError about ``manifest`` naming the first set that has it.
     """
-    import cv2
-
-    from ..io.images import load_image, save_image
-
     copies: dict[str, str] = {}
     for triple in sets:
         for path in (p for p in triple.photos if p not in copies):
@@ -193,9 +193,7 @@ def plan(
     return rows, items
 
 
-def check_outcomes(
-    manifest: str, sets: list[Triple], rows: list[Row], outcomes: dict[int, work.Outcome], originals: dict[str, str]
-) -> None:
+def check_outcomes(manifest: str, sets: list[Triple], rows: list[Row], outcomes: dict[int, Outcome], originals: dict[str, str]) -> None:
     """ExprCloneError for the first row that failed, naming its set and method, and its copies by the photos they came from."""
     failed = next((o for o in (outcomes[r.number] for r in rows) if o.status != "done"), None)
     if failed is None:

@@ -26,6 +26,8 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from scipy import stats
+
 from ..errors import ExprCloneError
 from ..io.documents import csv_cell
 from .folder import RATINGS, Key, read_key, read_study
@@ -74,8 +76,6 @@ def t_interval(values: list[float]) -> float:
     >>> round(t_interval([3, 4, 5]), 4)  # t(0.975, 2) = 4.3027, s = 1
     2.4841
     """
-    from scipy import stats
-
     n = len(values)
     if n < 2:
         return math.nan

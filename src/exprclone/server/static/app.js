@@ -1,9 +1,8 @@
-// exprclone's page: drop zones with previews and landmarks, clone, compare, video jobs. No build step.
+// exprclone's page: drop zones with previews and landmarks, clone, compare, video jobs. No build step. The option
+// controls are drawn from the server's description of its options (options.js), and sent by their keys.
 "use strict";
 
 const $ = (selector) => document.querySelector(selector);
-// the candidates of the DB metric (exprclone.metric.LAMBDAS), for the slider
-const LAMBDAS = [0, 0.1, 0.2, 0.35, 0.5, 0.75, 1, 1.5, 2, 3, 5, 10, Infinity];
 const POLL_EVERY = 500; // ms between two looks at a video job
 
 // The server names inputs by their form field ("target_neutral: no face found"); the page by their label.
@@ -83,7 +82,7 @@ async function findFaces(zone, file) {
   const canvas = zone.querySelector("canvas");
   const form = new FormData();
   form.append("photo", file);
-  form.append("landmarker", $("#landmarker").value);
+  await addLandmarker(form);
   const found = await (await call("/api/faces", { method: "POST", body: form })).json();
   if (found.faces.length < 2) return;
   for (const face of found.faces) {
@@ -137,7 +136,7 @@ async function preview(zone) {
   try {
     const form = new FormData();
     form.append("photo", file);
-    form.append("landmarker", $("#landmarker").value);
+    await addLandmarker(form);
     zone.found = await (await call("/api/landmarks", { method: "POST", body: form })).json();
     if (zone.dataset.field === "target_neutral") await findFaces(zone, file);
     say("");
@@ -165,9 +164,6 @@ for (const zone of document.querySelectorAll(".zone")) {
     if (event.dataTransfer.files.length) setFile(input, event.dataTransfer.files[0]);
   });
 }
-$("#landmarker").addEventListener("change", () => {
-  for (const zone of document.querySelectorAll(".zone")) if (zone.querySelector("canvas")) preview(zone);
-});
 $("#show-landmarks").addEventListener("change", () => {
   for (const zone of document.querySelectorAll(".zone")) if (zone.querySelector("canvas")) drawLandmarks(zone, zone.found);
 });
@@ -213,35 +209,35 @@ async function loadExpressions() {
 loadExpressions();
 showSourceKind();
 
-// --- options ----------------------------------------------------------------------------
-function lambdaValue() {
-  return $("#lambda-auto").checked ? "auto" : String(LAMBDAS[Number($("#lambda").value)]).replace("Infinity", "inf");
-}
-function showLambda() {
-  $("#lambda").disabled = $("#lambda-auto").checked;
-  $("#lambda-value").textContent = lambdaValue();
-}
-$("#lambda-auto").addEventListener("change", showLambda);
-$("#lambda").addEventListener("input", showLambda);
+// --- options: the controls drawn from the server's description (options.js) -------------------------------------------
+const drawn = drawOptions("form").then((controls) => {
+  for (const id of ["#clone", "#compare", "#video-start"]) $(id).disabled = false;
+  const landmarker = controls.find((c) => c.option.name === "landmarker");
+  landmarker?.addEventListener("change", () => {
+    for (const zone of document.querySelectorAll(".zone")) if (zone.querySelector("canvas")) preview(zone);
+  });
+  for (const control of controls.filter((c) => c.type === "range")) {
+    control.addEventListener("input", () => { asked = performance.now(); refresh("preview"); });
+    control.addEventListener("change", () => refresh("full"));
+  }
+  return controls;
+}).catch((e) => { say(e.message); return []; });
 
-// --- strengths: a preview follows a slider as it moves, the full size comes when it is let go ------------------------
-makeStrengths(() => { asked = performance.now(); refresh("preview"); }, () => refresh("full"));
+$("#strengths-reset").addEventListener("click", async () => { resetSliders(await drawn); refresh("full"); });
 
-function addStrengths(form) {
-  for (const [option, value] of Object.entries(strengthsAsked())) form.append(option, value);
-}
-
-// the options of exprclone.options.Options and the landmarker, as form fields
-function addTransfer(form, withGiven) {
-  form.append("landmarker", $("#landmarker").value);
-  if ($("#global-warp").value) form.append("global_warp", $("#global-warp").value);
-  form.append("image_warp", $("#image-warp").value);
-  addStrengths(form);
-  form.append("retarget", $("#retarget").checked ? "true" : "false");
-  if (withGiven && fileOf("global_landmarks")) form.append("global_landmarks", fileOf("global_landmarks"));
+// the landmarker chosen, for a photo's landmarks and faces
+async function addLandmarker(form) {
+  for (const [key, value] of Object.entries(optionValues((await drawn).filter((c) => c.option.name === "landmarker")))) form.append(key, value);
 }
 
-function cloneForm(withMethod) {
+// the options of the controls of `values` ("Options": a clone's; "Driving", "Framing": a video's) as form fields; the
+// sliders alone for a render of the prepared clone
+async function addOptions(form, values, slidersOnly = false) {
+  const chosen = (await drawn).filter((c) => values.includes(c.option.value) && (!slidersOnly || c.type === "range"));
+  for (const [key, value] of Object.entries(optionValues(chosen))) form.append(key, value);
+}
+
+async function cloneForm(withMethod) {
   const form = new FormData();
   if (builtIn()) form.append("expression", $("#expression").value);
   for (const field of builtIn() ? ["target_neutral"] : [...SOURCES, "target_neutral"]) {
@@ -249,12 +245,11 @@ function cloneForm(withMethod) {
     if (!file) throw new Error(`${field}: choose a photo`);
     form.append(field, file);
   }
-  if (withMethod) form.append("method", $("#method").value);
   const faces = facesAsked();
   if (faces) form.append("faces", faces);
-  form.append("lambda", lambdaValue());
-  form.append("mouth", $("#mouth").checked ? "true" : "false");
-  addTransfer(form, true);
+  await addOptions(form, ["Options"]);
+  if (!withMethod) form.delete("method"); // every method is on the sheet
+  if (fileOf("global_landmarks")) form.append("global_landmarks", fileOf("global_landmarks"));
   return form;
 }
 
@@ -272,17 +267,13 @@ function forget() {
 }
 window.addEventListener("pagehide", forget);
 
-function caption(record) {
+async function caption(record) {
   const lambda = record.lambda_k === null ? "" : `, λk = ${record.lambda_k}`;
-  const o = record.options;
-  const regions = Object.entries(o.region_strengths).filter(([, s]) => s !== o.strength).map(([r, s]) => `${r} ${s}`);
-  const how = [o.global_warp !== "similarity" ? `global warp ${o.global_warp}` : "", o.image_warp !== "mesh" ? o.image_warp : "",
-    o.strength !== 1 ? `strength ${o.strength}` : "", ...regions, o.strength_shading !== 1 ? `shading ${o.strength_shading}` : "",
-    o.retarget ? "" : "no retarget", record.landmarker && record.landmarker !== "dlib" ? `${record.landmarker} landmarks` : ""];
+  const how = optionsSaid(record, await describedOptions);
   const source = builtIn() ? `, expression ${$("#expression").value}` : "";
   const cloned = record.faces.filter((face) => !face.problem).map((face) => face.number);
   const faces = record.faces.length ? `, faces ${cloned.join(",") || "none"} of ${record.faces.length}` : "";
-  return `${record.method}${source}${lambda}${faces}${how.filter(Boolean).map((h) => `, ${h}`).join("")}. `;
+  return `${record.method}${source}${lambda}${faces}${how.map((h) => `, ${h}`).join("")}. `;
 }
 
 // the result on screen (unless "before" is shown: then the toggle shows it), once the browser has decoded it
@@ -295,7 +286,7 @@ function showImage(src) {
 // render the edit at "preview" or "full" size with the sliders' values; only the newest request waits its turn
 async function renderEdit(size) {
   const form = new FormData();
-  addStrengths(form);
+  await addOptions(form, ["Options"], true);
   const values = Object.fromEntries(form.entries());
   const since = asked;
   if (size === "preview") {
@@ -309,7 +300,7 @@ async function renderEdit(size) {
     shown.result = `data:image/png;base64,${record.png}`;
     delete record.png;
     await showImage(shown.result);
-    $("#result-caption").textContent = caption(record);
+    $("#result-caption").textContent = await caption(record);
     $("#download-png").href = shown.result;
     $("#download-json").href = URL.createObjectURL(new Blob([JSON.stringify(record, null, 1)], { type: "application/json" }));
   }
@@ -340,7 +331,7 @@ $("#clone").addEventListener("click", async () => {
   busy(true);
   try {
     forget();
-    edit = await (await call("/api/edits", { method: "POST", body: cloneForm(true) })).json();
+    edit = await (await call("/api/edits", { method: "POST", body: await cloneForm(true) })).json();
     shown.before = URL.createObjectURL(fileOf("target_neutral"));
     $("#before").src = shown.before;
     $("#toggle").setAttribute("aria-pressed", "false");
@@ -366,7 +357,7 @@ $("#compare").addEventListener("click", async () => {
   say("");
   busy(true);
   try {
-    const form = cloneForm(false);
+    const form = await cloneForm(false);
     form.append("figure", $("#figure").value);
     const url = URL.createObjectURL(await (await call("/api/compare", { method: "POST", body: form })).blob());
     $("#sheet-caption").textContent = $("#figure").value === "19"
@@ -395,14 +386,7 @@ $("#video-start").addEventListener("click", async () => {
       if (!fileOf(field)) throw new Error(`${field}: choose a file`);
       form.append(field, fileOf(field));
     }
-    form.append("method", $("#method").value);
-    form.append("lambda", lambdaValue());
-    form.append("mouth", $("#mouth").checked ? "true" : "false");
-    form.append("size", $("#video-size").value);
-    form.append("neutral_frame", $("#video-neutral").value);
-    form.append("side_by_side", $("#video-side-by-side").checked ? "true" : "false");
-    form.append("head_motion", $("#video-head-motion").checked ? "true" : "false");
-    addTransfer(form, false);
+    await addOptions(form, ["Options", "Driving", "Framing"]);
     const job = await (await call("/api/video", { method: "POST", body: form })).json();
     progress.hidden = false;
     progress.value = 0;

@@ -1,4 +1,5 @@
-// exprclone live: camera frames to the server over a WebSocket, the portrait's frames back onto a canvas.
+// exprclone live: camera frames to the server over a WebSocket, the portrait's frames back onto a canvas. The option
+// controls are drawn from the server's description of its options (options.js): those a live message takes.
 "use strict";
 
 const $ = (selector) => document.querySelector(selector);
@@ -17,10 +18,21 @@ function say(message) {
 }
 function inform(message) { $("#message").textContent = message; }
 
-function setRunning(running) {
+// the controls, once drawn: the output sizes are those the live WebSocket renders
+const drawn = Promise.all([drawOptions("json"), optionsAnswer]).then(([controls, answer]) => {
+  for (const control of controls.filter((c) => c.option.value === "Framing" && c.tagName === "SELECT")) {
+    for (const entry of [...control.options]) if (!answer.live.sizes.includes(Number(entry.value))) entry.remove();
+  }
+  for (const control of controls) control.addEventListener("change", sendChoices);
+  $("#start").disabled = false;
+  return controls;
+}).catch((e) => { say(e.message); return []; });
+
+async function setRunning(running) {
   $("#start").disabled = running;
   for (const id of ["#stop", "#neutral", "#record"]) $(id).disabled = !running;
-  $("#landmarker").disabled = running;  // the landmarker is chosen at the start
+  // the landmarker and the size are chosen at the start
+  for (const control of (await drawn).filter((c) => c.option.name === "landmarker" || c.option.value === "Framing")) control.disabled = running;
 }
 
 $("#portrait").addEventListener("change", () => {
@@ -126,10 +138,11 @@ async function start() {
   $("#camera").srcObject = stream;
   sequence = 0; inFlight = 0; dropped = 0; sentAt.clear(); shownAt.length = 0; latencies.length = 0;
   const portrait = await file.arrayBuffer();  // read before the socket opens: no camera frame may go out before it
+  const startChoices = optionValues(await drawn, true);
   socket = new WebSocket(`${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/api/live`);
   socket.binaryType = "arraybuffer";
   socket.onopen = () => {
-    socket.send(JSON.stringify({ type: "start", ...choices(), size: Number($("#size").value), landmarker: $("#landmarker").value }));
+    socket.send(JSON.stringify({ type: "start", ...startChoices }));
     socket.send(portrait);
   };
   socket.onmessage = (event) => (typeof event.data === "string" ? onText(JSON.parse(event.data)) : show(event.data));
@@ -160,15 +173,12 @@ function stop(message) {
 $("#start").addEventListener("click", start);
 $("#stop").addEventListener("click", () => stop());
 $("#neutral").addEventListener("click", () => socket && socket.send(JSON.stringify({ type: "neutral" })));
-// the method, the teeth switch and every strength (a region's as its slider shows it: the whole one's until moved)
-function choices() {
-  const strengths = Object.fromEntries(strengthSliders().map((slider) => [slider.dataset.option, Number(slider.value)]));
-  return { method: $("#method").value, mouth: $("#mouth").checked, ...strengths };
+// every control's value, as the live protocol's options message takes them (a region's strength once moved)
+async function sendChoices() {
+  const values = optionValues(await drawn, true);
+  if (socket && socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify({ type: "options", ...values }));
 }
-
-const sendChoices = () => socket && socket.send(JSON.stringify({ type: "options", ...choices() }));
-makeStrengths(() => {}, sendChoices);
-for (const control of [$("#method"), $("#mouth")]) control.addEventListener("change", sendChoices);
+$("#strengths-reset").addEventListener("click", async () => { resetSliders(await drawn); sendChoices(); });
 
 $("#record").addEventListener("click", () => {
   if (recorder && recorder.state === "recording") return recorder.stop();

@@ -8,7 +8,7 @@ expires, and at most :data:`FAILED_KEPT` of them). Job ids are random
 (128 bits) and checked against their form before any path is built from them.
 
 The rules on a store of jobs (:func:`check_room`, :func:`expired`, :func:`job_error`) are
-also those of the jobs a Dask cluster keeps for several servers (:mod:`exprclone.server.shared_jobs`).
+also those of the jobs a Dask cluster keeps for several servers (:mod:`exprclone.server.runtime.shared_jobs`).
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ...errors import ExprCloneError
 from .limits import Busy
 
 #: a job id: 32 hex digits.
@@ -41,6 +42,10 @@ class NoSuchJob(Exception):
     def of(cls, job_id: str, ttl: float) -> NoSuchJob:
         """The error about ``job_id``, in a store whose jobs expire ``ttl`` seconds after they end."""
         return cls(f"no job {job_id!r} (unknown, or expired after {ttl:g} s)")
+
+
+class JobNotDone(Exception):
+    """A job's result asked for before the job is done: answered 409."""
 
 
 @dataclass
@@ -188,6 +193,4 @@ def expired(jobs: list[tuple[str, float | None, bool]], ttl: float, now: float) 
 def job_error(error: BaseException) -> str:
     """What a failed job's state says of the error that ended it: a user's error (ExprCloneError) as it is worded, any
     other as an internal error (its details are the server's log's, not a client's)."""
-    from ..errors import ExprCloneError
-
     return str(error) if isinstance(error, ExprCloneError) else "the job failed (internal error)"

@@ -1,9 +1,9 @@
-"""The full data sets' folder, as the tools and benchmarks take it (``--data``).
+"""The full data sets' folder, as the tools, the benchmarks and ``exprclone evaluate`` take it (``--data``).
 
 The London Set's 72 people and the GRID clips do not ship (the samples inside the package
-are three people and one clip): the tools find them where the tests do, in
-``$EXPRCLONE_DATA``, else in ``../shared/data`` beside the checkout, whatever folder they
-are run from; a ``--data`` that is not a folder is a one-line error before any work.
+are three people and one clip): they are found where the tests find them, in
+``$EXPRCLONE_DATA``, else in ``../shared/data`` beside a checkout of the repository, whatever
+folder a tool is run from; a ``--data`` that is not a folder is a one-line error before any work.
 """
 
 from __future__ import annotations
@@ -12,8 +12,9 @@ import argparse
 import os
 from pathlib import Path
 
-#: where the data sets are when neither ``--data`` nor ``$EXPRCLONE_DATA`` says: beside the checkout.
-BESIDE = Path(__file__).resolve().parents[2] / "shared" / "data"
+#: where the data sets are when neither ``--data`` nor ``$EXPRCLONE_DATA`` says: beside the checkout (this file is
+#: ``src/exprclone/data/sets.py`` in it).
+BESIDE = Path(__file__).resolve().parents[4] / "shared" / "data"
 
 
 def default(*parts: str) -> Path:

@@ -6,7 +6,7 @@ loads the models once, as it joins (:class:`Models`, a worker plugin that every 
 the requests at work or waiting (``--workers`` + ``--queue``) is a Dask ``Semaphore`` on the scheduler, so it holds
 across the servers; beyond it, the answer of one machine (503 and ``Retry-After``). A worker lost while it runs a
 request: Dask runs the task again on another (the scheduler's ``allowed-failures``), then gives up (``KilledWorker``):
-503, try again. The video jobs are the cluster's too (:mod:`exprclone.server.shared_jobs`).
+503, try again. The video jobs are the cluster's too (:mod:`exprclone.server.runtime.shared_jobs`).
 """
 
 from __future__ import annotations
@@ -20,10 +20,10 @@ import dask
 from distributed import KilledWorker, Semaphore, WorkerPlugin
 from distributed.client import FutureCancelledError
 
-from ..cluster import connect_async, keep_buffers
-from . import work
+from ...cluster import connect_async, keep_buffers
+from .. import work
+from ..settings import Settings
 from .limits import Busy, full
-from .settings import Settings
 from .shared_jobs import SharedJobs
 
 log = logging.getLogger("exprclone.server")
@@ -94,7 +94,7 @@ class Cluster:
             await self.gate.release()
 
     async def submit_video(self, request: work.VideoRequest, video: IO[bytes]) -> str:
-        """A new video job (:class:`~exprclone.server.shared_jobs.SharedJobs`), its id; the driving video is probed
+        """A new video job (:class:`~exprclone.server.runtime.shared_jobs.SharedJobs`), its id; the driving video is probed
         first on a worker, sent as bytes: one that is not a video, or is over the limits, fails now, not in the job."""
         await self.jobs.check()
         content = await asyncio.to_thread(video.read)
@@ -102,14 +102,14 @@ class Cluster:
         return await self.jobs.submit(request, content, fps)
 
     async def video_state(self, job_id: str) -> dict[str, Any]:
-        """A job's state, or :class:`~exprclone.server.jobs.NoSuchJob`."""
+        """A job's state, or :class:`~exprclone.server.runtime.jobs.NoSuchJob`."""
         return await self.jobs.state(job_id)
 
     async def video_result(self, job_id: str) -> bytes:
-        """A done job's MP4, or :class:`~exprclone.server.jobs.NoSuchJob`."""
+        """A done job's MP4, or :class:`~exprclone.server.runtime.jobs.NoSuchJob`."""
         return await self.jobs.result(job_id)
 
     async def close(self) -> None:
-        """Leave the cluster; the jobs go on there (:meth:`exprclone.server.shared_jobs.SharedJobs.close`)."""
+        """Leave the cluster; the jobs go on there (:meth:`exprclone.server.runtime.shared_jobs.SharedJobs.close`)."""
         self.jobs.close()
         await self.client.close()  # (not the gate's close: the other servers share it)

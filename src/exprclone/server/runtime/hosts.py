@@ -1,4 +1,4 @@
-"""Where live sessions render: each in a process of its own, off the web process's GIL.
+"""The host processes live sessions render in: each session in a process of its own, off the web process's GIL.
 
 A live session (:class:`exprclone.server.session.Session`) renders every camera frame in
 Python and numpy; sessions run as threads of the web process would share one
@@ -9,7 +9,7 @@ connection's thread as before, send their arguments to the host and wait for the
 (the wait releases the lock). A host serves one session at a time; hosts are
 started with the server (each loads the models once, which takes seconds), another when
 a session finds none idle, and each is kept for the next session when its own ends. The protocol
-(:mod:`exprclone.server.live`) is the same whichever process renders.
+(:mod:`exprclone.server.routers.live`) is the same whichever process renders.
 
 A host renders on one thread: OpenCV's own worker threads (one per core by default) would
 compete with the other sessions' hosts for the same cores, and wait on each other. The gain
@@ -27,21 +27,19 @@ from collections.abc import Callable
 from multiprocessing.connection import Connection
 from typing import Any
 
+import cv2
 import numpy as np
 
-from ..errors import ExprCloneError
-from ..options import Options
-from .session import Session
+from ...errors import ExprCloneError
+from ...io.images import load_image
+from ...options import Options
+from ..session import Session
+from ..work import load_models
 
 
 def serve(connection: Connection) -> None:
     """A host process's loop: ``("start", (portrait bytes, max_pixels, arguments of Session))``, then calls of the
     session's methods ``(name, arguments)``, then ``("end", ())``; each answered ``("ok", result)`` or ``("error", e)``."""
-    import cv2
-
-    from ..io.images import load_image
-    from .work import load_models
-
     cv2.setNumThreads(1)  # the session's frames are small: its other cores serve the other sessions (module docstring)
     load_models()
     session: Session | None = None

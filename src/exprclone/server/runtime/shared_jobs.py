@@ -19,8 +19,8 @@ with an error that says so (:data:`WORKER_LOST`); it is never left running.
 
 The bound (``--max-jobs``) counts the published jobs, checked and published under a Dask ``Lock``, so that it holds
 across the servers; what a full store answers, when a job expires (``--job-ttl`` after it ends) and how many failed
-ones are kept are the rules of one server's store (:func:`~exprclone.server.jobs.check_room`,
-:func:`~exprclone.server.jobs.expired`).
+ones are kept are the rules of one server's store (:func:`~exprclone.server.runtime.jobs.check_room`,
+:func:`~exprclone.server.runtime.jobs.expired`).
 """
 
 from __future__ import annotations
@@ -34,10 +34,10 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
-from distributed import KilledWorker, Lock, Variable
+from distributed import KilledWorker, Lock, Variable, get_client
 from distributed.client import FutureCancelledError
 
-from . import work
+from .. import work
 from .jobs import JOB_ID, NoSuchJob, answer, check_room, expired, job_error
 
 #: the start of a job's names on the scheduler (its dataset, its ending and its progress); its id follows.
@@ -54,8 +54,6 @@ class Progress:
     name: str
 
     def __call__(self, done: int, total: int) -> None:
-        from distributed import get_client
-
         Variable(self.name, client=get_client()).set({"done": done, "total": total})
 
 
@@ -91,7 +89,7 @@ class SharedJobs:
             return None
 
     async def check(self) -> None:
-        """:class:`~exprclone.server.limits.Busy` when ``limit`` jobs are kept now: checked before a job's video is
+        """:class:`~exprclone.server.runtime.limits.Busy` when ``limit`` jobs are kept now: checked before a job's video is
         received and probed, and again as it is submitted."""
         self._check_room(await self.reports())
 
@@ -154,14 +152,14 @@ class SharedJobs:
             self.watched.pop(job_id, None)
 
     async def state(self, job_id: str) -> dict[str, Any]:
-        """A job's state (:func:`~exprclone.server.jobs.answer`), or :class:`~exprclone.server.jobs.NoSuchJob`."""
+        """A job's state (:func:`~exprclone.server.runtime.jobs.answer`), or :class:`~exprclone.server.runtime.jobs.NoSuchJob`."""
         reports = await self.reports() if JOB_ID.fullmatch(job_id) else {}
         if job_id not in reports:
             raise NoSuchJob.of(job_id, self.ttl)
         return answer(job_id, reports[job_id])
 
     async def result(self, job_id: str) -> bytes:
-        """A done job's MP4, or :class:`~exprclone.server.jobs.NoSuchJob`."""
+        """A done job's MP4, or :class:`~exprclone.server.runtime.jobs.NoSuchJob`."""
         task, _ = await self.client.get_dataset(PREFIX + job_id, default=(None, None)) if JOB_ID.fullmatch(job_id) else (None, None)
         if task is None:
             raise NoSuchJob.of(job_id, self.ttl)

@@ -21,7 +21,7 @@ class Busy(Exception):
 
 def full(limit: int) -> Busy:
     """What a request is answered when ``limit`` requests are at work or waiting already (on this server, or on a Dask
-    cluster: :class:`exprclone.server.cluster.Cluster`)."""
+    cluster: :class:`exprclone.server.runtime.cluster.Cluster`)."""
     return Busy(f"the server is busy ({limit} requests at work or waiting); try again in {RETRY_AFTER} s")
 
 

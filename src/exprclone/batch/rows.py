@@ -10,23 +10,24 @@ A Dask worker keeps freed image buffers as a local process does (:func:`exprclon
 
 from __future__ import annotations
 
+import dataclasses
 import time
 import warnings
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..cluster import keep_buffers
 from ..errors import ExprCloneError, naming
+from ..io.images import save_image
+from ..io.inputs import Source, photo
 from ..options import Options
-from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
+from ..pipeline import request as door
+from ..pipeline.cloner import Cloner
+from ..pipeline.group import Found, check_count
+from ..pipeline.request import Photo, Request
+from ..roles import ROLES, SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .manifest import Row
-
-if TYPE_CHECKING:
-    from ..pipeline import role_check
-    from ..pipeline.cloner import Cloner
-    from ..pipeline.group import Found
 
 
 @dataclass(frozen=True)
@@ -54,21 +55,16 @@ class Outcome:
 
 
 def detect(paths: list[str], landmarker: str) -> list[tuple[tuple[Found, ...] | None, str]]:
-    """Every face of each photo, its landmarks placed by ``landmarker`` (:func:`exprclone.pipeline.group.find`), or the
-    problem that stopped them (no face, not an image)."""
-    from ..io.images import load_image
-    from ..landmarks.backends import shared
-    from ..landmarks.layout import DLIB68
-    from ..pipeline import group
-
+    """Every face of each photo, its landmarks placed by ``landmarker`` (:func:`exprclone.pipeline.request.place`), or
+    the problem that stopped them (no face, not an image)."""
     keep_buffers()
-
+    options = Options(landmarker=landmarker)
     found: list[tuple[tuple[Found, ...] | None, str]] = []
     for path in paths:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                found.append((group.find(load_image(path), shared(landmarker), path, DLIB68), ""))
+                found.append((door.place(photo(Source(path), path, options), options, every=True).found, ""))
         except ExprCloneError as e:
             found.append((None, e.problem))
     return found
@@ -76,10 +72,6 @@ def detect(paths: list[str], landmarker: str) -> list[tuple[tuple[Found, ...] | 
 
 def clone_rows(task: Task) -> list[Outcome]:
     """Clone the task's rows, writing each output; a row that fails says why and the others go on."""
-    from ..io.images import load_image
-    from ..pipeline import role_check
-    from ..pipeline.cloner import Cloner
-
     keep_buffers()
     start, first = time.perf_counter(), task.rows[0]
     if first.target_neutral in task.groups:
@@ -87,37 +79,36 @@ def clone_rows(task: Task) -> list[Outcome]:
     try:
         with warnings.catch_warnings(), naming({SOURCE_NEUTRAL: first.source_neutral, TARGET_NEUTRAL: first.target_neutral}):
             warnings.simplefilter("ignore")
-            neutral, target = load_image(first.source_neutral), load_image(first.target_neutral)
-            landmarks = task.landmarks[first.source_neutral], task.landmarks[first.target_neutral]
-            cloner = Cloner(neutral, landmarks[0], target, landmarks[1], task.options)
-            # the source's neutral and the target, for each row's role check
-            photos = (
-                role_check.Photo.of(neutral, landmarks[0], cloner.faces.layout),
-                role_check.Photo.of(target, landmarks[1], cloner.faces.layout),
-            )
+            neutral, target = (_placed(path, role, task, task.options) for path, role in zip(first.photos[::2], ROLES[::2]))
+            # the rows' roles are checked (a manifest names its photos by hand): each photo looked at once, for every row
+            request = Request(neutral, None, target, task.options, check_roles=True)
+            cloner = door.pair(request)
     except ExprCloneError as e:
         return [Outcome(row.number, "failed", str(e)) for row in task.rows]
     outcomes = []
     for row in task.rows:
-        outcomes.append(_clone_row(cloner, photos, row, task, start))
+        outcomes.append(_clone_row(cloner, request, row, task, start))
         start = time.perf_counter()
     return outcomes
+
+
+def _placed(path: str, role: str, task: Task, options: Options) -> Photo:
+    """A row's photo read, with the landmarks the job's first pass placed (:func:`detect`; of a photo of several faces,
+    its largest's)."""
+    return photo(Source(path, points=task.landmarks[path]), role, options)
 
 
 def _clone_group_row(row: Row, task: Task, start: float) -> Outcome:
     """One row whose target shows several faces: each face its options choose cloned in its own region
     (:mod:`exprclone.pipeline.group`), the output written."""
-    from ..io.images import load_image, save_image
-    from ..pipeline.clone import clone
-
-    names = dict(zip((SOURCE_NEUTRAL, SOURCE_EXPRESSION, TARGET_NEUTRAL), row.photos))
+    names = dict(zip(ROLES, row.photos))
     try:
         with warnings.catch_warnings(), naming(names):
             warnings.simplefilter("ignore")
-            images = [load_image(p) for p in row.photos]
-            points = (task.landmarks[row.source_neutral], task.landmarks[row.source_expression], None)
             options = Options.from_text(dict(row.cells), task.options)
-            result = clone(*images, landmarks=points, options=options, target_faces=task.groups[row.target_neutral])
+            sn, se = (_placed(path, role, task, options) for path, role in zip(row.photos[:2], ROLES[:2]))
+            target = photo(Source(row.target_neutral), TARGET_NEUTRAL, options).looked(task.groups[row.target_neutral])
+            result = door.prepare(Request(sn, se, target, options)).render()[options.method]
             save_image(row.output, result.image, inputs=row.photos)
     except ExprCloneError as e:
         return Outcome(row.number, "failed", str(e), seconds=time.perf_counter() - start)
@@ -126,27 +117,21 @@ def _clone_group_row(row: Row, task: Task, start: float) -> Outcome:
     return Outcome(row.number, "done", "", None, time.perf_counter() - start, result.warnings)
 
 
-def _clone_row(cloner: Cloner, photos: tuple[role_check.Photo, role_check.Photo], row: Row, task: Task, start: float) -> Outcome:
-    """One row on the prepared faces: its expression cloned by its method, the output written, its photos checked
-    (:func:`exprclone.pipeline.role_check.judge_roles`; ``photos`` are the source's neutral photo's and the target's)."""
-    from ..io.images import load_image, save_image
-    from ..pipeline import role_check
-    from ..pipeline.group import check_count
-
+def _clone_row(cloner: Cloner, request: Request, row: Row, task: Task, start: float) -> Outcome:
+    """One row on the prepared faces (``request``'s, without an expression): its expression cloned by its method, the
+    output written, its photos' roles checked (:func:`exprclone.pipeline.request.judge_roles`)."""
     try:
         with warnings.catch_warnings(), naming({SOURCE_EXPRESSION: row.source_expression}):
             warnings.simplefilter("ignore")
             own = cloner.changed(Options.from_text(dict(row.cells), task.options)) if row.cells else cloner
             check_count(own.options.faces, 1)
             method = own.options.method
-            expression = load_image(row.source_expression)
-            points = task.landmarks[row.source_expression]
-            photo = role_check.Photo.of(expression, points, cloner.faces.layout)
-            result = own.clone_methods(expression, points, crop=photo.crop)
-            save_image(row.output, result[method].image, inputs=row.photos)
-            said = tuple(role_check.judge_roles(photos[0], photo, cloner.faces.layout, photos[1]))
+            expression = _placed(row.source_expression, SOURCE_EXPRESSION, task, own.options)
+            asked = dataclasses.replace(request, source_expression=expression, options=own.options)
+            result = door.prepare(asked, cloner=own).render()[method]
+            save_image(row.output, result.image, inputs=row.photos)
     except ExprCloneError as e:
         return Outcome(row.number, "failed", str(e), seconds=time.perf_counter() - start)
     except Exception as e:  # a bug, not the input's fault: the row fails, the job goes on
         return Outcome(row.number, "failed", f"internal error ({type(e).__name__}: {e})", seconds=time.perf_counter() - start)
-    return Outcome(row.number, "done", "", result[method].lambda_k, time.perf_counter() - start, said)
+    return Outcome(row.number, "done", "", result.lambda_k, time.perf_counter() - start, result.warnings)

@@ -23,12 +23,15 @@ import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from ...io.images import encode_image
+from ...io.record import result_record
 from .jobs import JOB_ID, NoSuchJob
 from .limits import Busy
 
 if TYPE_CHECKING:
-    from ..pipeline.cloner import CloneResult, Prepared
-    from ..pipeline.group import Group
+    from ...pipeline.cloner import Prepared
+    from ...pipeline.group import Group
+    from ...pipeline.result import CloneResult
 
 #: the preview's longest side, pixels.
 PREVIEW = 512
@@ -70,9 +73,6 @@ class Edit:
     def answer(self, preview: bool, changes: dict[str, Any], extension: str, record: bool) -> tuple[bytes, dict[str, Any] | None]:
         """:meth:`render`, encoded as a file of ``extension`` (:func:`exprclone.io.images.encode_image`), and if asked its
         JSON record (:func:`exprclone.io.record.result_record`), as ``POST /api/clone`` gives them."""
-        from ..io.images import encode_image
-        from ..io.record import result_record
-
         result = self.render(preview, changes)
         said = result_record(dataclasses.replace(result, landmarker=self.landmarker), self.inputs) if record else None
         return encode_image(result.image, extension), said

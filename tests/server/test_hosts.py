@@ -1,4 +1,4 @@
-"""Live sessions rendered in host processes (``exprclone.server.rendering``): what a session here renders, frame for frame."""
+"""Live sessions rendered in host processes (``exprclone.server.runtime.hosts``): what a session here renders, frame for frame."""
 
 import itertools
 
@@ -10,7 +10,7 @@ from exprclone.errors import ExprCloneError
 from exprclone.io.images import load_image
 from exprclone.io.video import read_frames
 from exprclone.options import Options
-from exprclone.server.rendering import Hosts
+from exprclone.server.runtime.hosts import Hosts
 from exprclone.server.session import Session, encode_jpeg
 
 pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -m 'not slow' leaves these out

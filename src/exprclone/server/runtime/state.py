@@ -1,7 +1,7 @@
 """The state of a running ``exprclone serve`` (:class:`Work`): where its work runs, its queue, edits and live sessions.
 
-Kept below the application and its routes (:mod:`exprclone.server.app`, :mod:`exprclone.server.api`,
-:mod:`exprclone.server.live`), which reach it through the FastAPI dependency :data:`Server`.
+Kept below the application and its routes (:mod:`exprclone.server.app`, :mod:`exprclone.server.routers`), which reach
+it through the FastAPI dependency :data:`Server`.
 """
 
 from __future__ import annotations
@@ -14,11 +14,11 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 from fastapi import Depends
 from starlette.requests import HTTPConnection
 
+from ..settings import Settings
 from .edits import Edits
+from .hosts import Hosts
 from .limits import Gate
 from .processes import Processes
-from .rendering import Hosts
-from .settings import Settings
 
 if TYPE_CHECKING:
     from .cluster import Cluster
@@ -33,8 +33,8 @@ class Work:
     Attributes
     ----------
     backend : Processes or Cluster
-        The server's own worker processes (:class:`~exprclone.server.processes.Processes`), or with
-        ``settings.scheduler`` a Dask cluster (:class:`~exprclone.server.cluster.Cluster`).
+        The server's own worker processes (:class:`~exprclone.server.runtime.processes.Processes`), or with
+        ``settings.scheduler`` a Dask cluster (:class:`~exprclone.server.runtime.cluster.Cluster`).
     """
 
     def __init__(self, settings: Settings) -> None:

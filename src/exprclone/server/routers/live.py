@@ -33,7 +33,7 @@ answered by the error alone, and the session goes on as it was.
 No backlog: the server keeps only the newest frame of a connection, and drops the
 older ones unanswered (the page sends the next frame once an answer arrives, with a
 small window). Each connection's state (tracker, filter, prepared faces) lives in a
-process of its own (:mod:`exprclone.server.rendering`: off the web process's interpreter
+process of its own (:mod:`exprclone.server.runtime.hosts`: off the web process's interpreter
 lock, so that sessions at once do not share one core), and goes when it closes; the
 process is kept for the next session; at most ``Settings.max_live`` run at once.
 """
@@ -47,18 +47,18 @@ from typing import Any
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 
-from ..errors import ExprCloneError, quoted
-from ..options import Framing, Options, from_json
-from .protocol import POLICY, SEQUENCE, START_SECONDS, Misuse, Slots, check_frame, parse_message, receive, refuse
-from .session import SIZES, Session
-from .state import Server
+from ...errors import ExprCloneError, quoted
+from ...options import Framing, Options, from_json
+from ..runtime.protocol import POLICY, SEQUENCE, START_SECONDS, Misuse, Slots, check_frame, parse_message, receive, refuse
+from ..runtime.state import Server
+from ..session import SIZES, Session
 
 router = APIRouter()
 
 
 async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, slots: Slots) -> Session:
     """Read the start message (which takes a slot) and the portrait, within :data:`START_SECONDS`; prepare the session
-    (in its host process, :mod:`exprclone.server.rendering`)."""
+    (in its host process, :mod:`exprclone.server.runtime.hosts`)."""
     deadline = asyncio.get_running_loop().time() + START_SECONDS
     start = parse_message(await receive(websocket, "text", deadline))
     if start["type"] != "start":
@@ -99,47 +99,10 @@ async def _follow(websocket: WebSocket, session: Session, executor: ThreadPoolEx
     newest: list[bytes] = []
     arrived = asyncio.Event()
     loop = asyncio.get_running_loop()
-
-    async def receive() -> None:
-        last = loop.time()
-        while True:
-            try:
-                message = await asyncio.wait_for(websocket.receive(), timeout=max(last + idle - loop.time(), 0.0))
-            except asyncio.TimeoutError:
-                raise Misuse("live", f"no frame for {idle:g} s: the session ends and its slot is free") from None
-            if message["type"] == "websocket.disconnect":
-                raise WebSocketDisconnect(message.get("code", 1000))
-            if message.get("bytes") is not None:
-                last = loop.time()
-                check_frame(message["bytes"], max_pixels)
-                newest[:] = [message["bytes"]]  # an older frame not yet taken is dropped
-                arrived.set()
-            elif message.get("text") is not None:
-                try:
-                    await _control(session, executor, parse_message(message["text"]))
-                except Misuse:
-                    raise
-                except ExprCloneError as e:
-                    await websocket.send_json({"type": "error", "error": str(e)})
-
-    async def answer() -> None:
-        shown = None
-        while True:
-            await arrived.wait()
-            arrived.clear()
-            content = newest.pop()
-            sequence = content[: SEQUENCE.size]
-            try:
-                image, status = await loop.run_in_executor(executor, session.process, content[SEQUENCE.size :], time.monotonic())
-            except ExprCloneError as e:
-                await websocket.send_json({"type": "error", "error": str(e)})
-                continue
-            if status != shown:
-                await websocket.send_json(status)
-                shown = status
-            await websocket.send_bytes(sequence + image)
-
-    tasks = [asyncio.create_task(receive()), asyncio.create_task(answer())]
+    tasks = [
+        asyncio.create_task(_receive(websocket, session, executor, max_pixels, idle, newest, arrived)),
+        asyncio.create_task(_answer(websocket, session, executor, newest, arrived)),
+    ]
     try:
         done, _ = await asyncio.wait(tasks, return_when=asyncio.FIRST_EXCEPTION)
         for task in done:
@@ -148,6 +111,62 @@ async def _follow(websocket: WebSocket, session: Session, executor: ThreadPoolEx
         for task in tasks:
             task.cancel()
         loop.run_in_executor(None, session.close)  # after the frame in hand, if any: its host is free for the next session
+
+
+async def _receive(
+    websocket: WebSocket,
+    session: Session,
+    executor: ThreadPoolExecutor,
+    max_pixels: int | None,
+    idle: float,
+    newest: list[bytes],
+    arrived: asyncio.Event,
+) -> None:
+    """Take each message: a frame checked and kept as the ``newest`` (an older one not yet taken is dropped), ``arrived``
+    set; a text message handled between frames (:func:`_control`); :class:`Misuse` after ``idle`` seconds without a frame."""
+    loop = asyncio.get_running_loop()
+    last = loop.time()
+    while True:
+        try:
+            message = await asyncio.wait_for(websocket.receive(), timeout=max(last + idle - loop.time(), 0.0))
+        except asyncio.TimeoutError:
+            raise Misuse("live", f"no frame for {idle:g} s: the session ends and its slot is free") from None
+        if message["type"] == "websocket.disconnect":
+            raise WebSocketDisconnect(message.get("code", 1000))
+        if message.get("bytes") is not None:
+            last = loop.time()
+            check_frame(message["bytes"], max_pixels)
+            newest[:] = [message["bytes"]]
+            arrived.set()
+        elif message.get("text") is not None:
+            try:
+                await _control(session, executor, parse_message(message["text"]))
+            except Misuse:
+                raise
+            except ExprCloneError as e:
+                await websocket.send_json({"type": "error", "error": str(e)})
+
+
+async def _answer(
+    websocket: WebSocket, session: Session, executor: ThreadPoolExecutor, newest: list[bytes], arrived: asyncio.Event
+) -> None:
+    """Process the newest frame each time one arrives, and send its output (and the session's status when it changes)."""
+    loop = asyncio.get_running_loop()
+    shown = None
+    while True:
+        await arrived.wait()
+        arrived.clear()
+        content = newest.pop()
+        sequence = content[: SEQUENCE.size]
+        try:
+            image, status = await loop.run_in_executor(executor, session.process, content[SEQUENCE.size :], time.monotonic())
+        except ExprCloneError as e:
+            await websocket.send_json({"type": "error", "error": str(e)})
+            continue
+        if status != shown:
+            await websocket.send_json(status)
+            shown = status
+        await websocket.send_bytes(sequence + image)
 
 
 async def _control(session: Session, executor: ThreadPoolExecutor, message: dict[str, Any]) -> None:

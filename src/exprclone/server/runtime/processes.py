@@ -1,7 +1,7 @@
 """Where a plain ``exprclone serve`` works (:class:`Processes`): pools of worker processes on its own machine, and its
 video jobs in its temporary folder.
 
-The other place is a Dask cluster (``serve --scheduler``, :class:`exprclone.server.cluster.Cluster`); both offer the
+The other place is a Dask cluster (``serve --scheduler``, :class:`exprclone.server.runtime.cluster.Cluster`); both offer the
 server the same calls.
 """
 
@@ -18,10 +18,10 @@ from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import IO, Any, TypeVar
 
-from . import work
+from .. import work
+from ..settings import Settings
 from .jobs import Jobs
 from .limits import Busy, Gate
-from .settings import Settings
 
 log = logging.getLogger("exprclone.server")
 T = TypeVar("T")
@@ -29,7 +29,7 @@ T = TypeVar("T")
 
 class Processes:
     """The clone workers and the video workers (:class:`~concurrent.futures.ProcessPoolExecutor`), each loading the
-    models once; the video jobs (:class:`~exprclone.server.jobs.Jobs`) under a temporary folder.
+    models once; the video jobs (:class:`~exprclone.server.runtime.jobs.Jobs`) under a temporary folder.
 
     Parameters
     ----------
@@ -83,12 +83,12 @@ class Processes:
         return job.id
 
     async def video_state(self, job_id: str) -> dict[str, Any]:
-        """A job's state (:meth:`exprclone.server.jobs.Job.state`), or :class:`~exprclone.server.jobs.NoSuchJob`."""
+        """A job's state (:meth:`exprclone.server.runtime.jobs.Job.state`), or :class:`~exprclone.server.runtime.jobs.NoSuchJob`."""
         self.jobs.expire()
         return self.jobs.get(job_id).state()
 
     async def video_result(self, job_id: str) -> Path:
-        """A done job's MP4, or :class:`~exprclone.server.jobs.NoSuchJob`."""
+        """A done job's MP4, or :class:`~exprclone.server.runtime.jobs.NoSuchJob`."""
         return self.jobs.get(job_id).result
 
     async def close(self) -> None:

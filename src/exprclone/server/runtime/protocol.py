@@ -1,4 +1,4 @@
-"""The rules of the live protocol (:mod:`exprclone.server.live`) that hold whatever the session does: the kinds and
+"""The rules of the live protocol (:mod:`exprclone.server.routers.live`) that hold whatever the session does: the kinds and
 shapes of messages, a frame's bounds, the session slots, and how a breach is answered (an error, then a close).
 
 Everything here is checked at the door, in the event loop, before any work: a frame's size is read
@@ -15,10 +15,12 @@ import struct
 from typing import Any, Literal, overload
 
 from fastapi import WebSocket, WebSocketDisconnect
+from PIL import Image, UnidentifiedImageError
 
-from ..errors import ExprCloneError
-from ..io.documents import parse_json
-from ..options import Framing, Options, expected, json_kinds
+from ...errors import ExprCloneError
+from ...io.documents import parse_json
+from ...io.images import check_size
+from ...options import Framing, Options, expected, json_kinds
 from .state import Work
 
 #: the sequence number before each frame.
@@ -75,10 +77,6 @@ def parse_message(text: str) -> dict[str, Any]:
 def check_frame(content: bytes, max_pixels: int | None) -> None:
     """A frame message: a 4-byte number and a JPEG or PNG whose size, read from its header, passes an upload's checks
     (:func:`exprclone.io.images.check_size`) before it is decoded; else :class:`Misuse` about ``frame``."""
-    from PIL import Image, UnidentifiedImageError
-
-    from ..io.images import check_size
-
     image = content[SEQUENCE.size :]
     try:
         with Image.open(io.BytesIO(image)) as header:
