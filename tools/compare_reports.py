@@ -3,9 +3,10 @@
     python tools/compare_reports.py BEFORE/pairs.csv AFTER/pairs.csv [--methods global+eri,e+md]
 
 For every method and score (mouth error, identity distance, teeth shown when the source shows them, judged smiling,
-shadow warmth) over the pairs both reports scored: the mean before and after and the mean paired difference with its
-95% interval (a t interval on the differences; for the shares, on the per-pair 0/1 outcomes). A change that is not
-meant to move a score should leave its interval around 0.
+shadow warmth, the blendshape judge's distance to the source's expression, overall and the mouth's, the change's, the rise kept)
+over the pairs both reports scored: the mean before and after and the mean paired difference with its 95% interval
+(a t interval on the differences; for the shares, on the per-pair 0/1 outcomes). A change that is not meant to move a
+score should leave its interval around 0.
 """
 
 from __future__ import annotations
@@ -25,6 +26,10 @@ SCORES = {
     "teeth shown, source shows": lambda r: float(float(r["teeth"]) >= TEETH_SHOWN) if float(r["source_teeth"]) >= TEETH_SHOWN else None,
     "judged smiling": lambda r: float(float(r["smiling"]) >= SMILING) if r.get("smiling") else None,
     "shadow warmth": lambda r: float(r["warmth"]) if r.get("warmth") else None,
+    "expression to the source's (blendshapes)": lambda r: float(r["to_source"]) if r.get("to_source") else None,
+    "mouth's expression to the source's": lambda r: float(r["to_source_mouth"]) if r.get("to_source_mouth") else None,
+    "change against the source's (blendshapes)": lambda r: float(r["change"]) if r.get("change") else None,
+    "source's rise kept": lambda r: float(r["rise_kept"]) if r.get("rise_kept") else None,
 }
 
 

@@ -155,6 +155,12 @@ def _summary_table(summary: list[dict]) -> list[str]:
     return _list_table(header, [[f"``{s['method']}``", *cells(s)] for s in summary])
 
 
+def _blendshape_table(summary: list[dict]) -> list[str]:
+    from exprclone.evaluation.report import BLENDSHAPE_HEADER, blendshape_cells
+
+    return _list_table(["method", *BLENDSHAPE_HEADER], [[f"``{s['method']}``", *blendshape_cells(s)] for s in summary])
+
+
 def _contrast_table(lines: list[dict]) -> list[str]:
     header = ["compared, pair by pair", "pairs", "mouth", "landmarks overall", "eyes and brows", "identity"]
     keys = ("mouth", "overall", "eyes_brows", "identity")
@@ -222,6 +228,13 @@ def render_evaluation() -> str | None:
         "  and the share of them under 1.08 (grey shadows). The methods without ERI shade nothing: the few results in",
         "  which they darken enough skin to be measured are those whose warp and the neutral photo's warp onto the result's",
         "  landmarks do not line up, so their figure is not a shadow's colour;",
+        "- **the blendshape judge** (:doc:`../explanation/expression-judge`), in a table of its own under each: MediaPipe's",
+        "  52 expression scores read on the result; their distance to the source's expression photo's per region (mouth,",
+        "  eyes, brows) and in total, and to the target's real expression's; the distance between the result's change from",
+        "  the target's neutral photo and the source's change from its own (the motion alone, as people's faces differ at",
+        "  rest; means, with 95% bootstrap intervals over the pairs); and the source's rise kept: over the four scores the",
+        "  source raises most from its neutral photo, the result's rise from the target's neutral photo over the source's",
+        "  (median, with its interval);",
         "- ``no change`` (the neutral photo as the result) and ``real`` (the real smile) are the floor and the ceiling.",
         "",
         *[line for sentence in alike(rows) for line in (sentence, "")],
@@ -238,6 +251,9 @@ def render_evaluation() -> str | None:
         "---------",
         "",
         *_summary_table(summaries["all pairs"]),
+        "The blendshape judge, all pairs:",
+        "",
+        *_blendshape_table(summaries["all pairs"]),
         "Broad smiles",
         "------------",
         "",
@@ -245,6 +261,9 @@ def render_evaluation() -> str | None:
         "A real smile is a better ground truth for a broad cloned one than a subtle smile is.",
         "",
         *_summary_table(list(summaries.values())[1]),
+        "The blendshape judge, broad smiles:",
+        "",
+        *_blendshape_table(list(summaries.values())[1]),
     ]
     if contrasts(rows):
         text += ["Pair by pair", "------------", "", "Mean difference over the pairs, with its standard error; below 0, the first is"]
@@ -323,7 +342,12 @@ def render_video() -> None:
         "tracked: the steadiness of the output itself, apart from the detector's on it); the flicker of the mouth interior's",
         "colour, beside the driver's (and beside the driver's interior in the portrait's light: its pixels times the paste's",
         "gain from the driver's light to the portrait's); and the correlation of the mouth's opening with the driver's, from",
-        "landmarks found afresh on the output (in brackets: from its rendered geometry).",
+        "landmarks found afresh on the output (in brackets: from its rendered geometry). The blendshape judge",
+        "(:doc:`../explanation/expression-judge`) reads MediaPipe's 52 expression scores on every frame: the output's",
+        "distance to the driving frame's, the mean over the frames (in brackets: the still portrait's, what an output that",
+        "never moved would score); the share of the driver's rise the output keeps (on the four scores each driving frame",
+        "raises most from the driver's neutral frame, the output's rise from the portrait over the driver's; the median",
+        "over the frames); and the correlation of ``jawOpen``, the output's against the driver's.",
         "The judges and their thresholds are in ``tools/video_judges.py``.",
         "",
     ]

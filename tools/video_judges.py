@@ -30,6 +30,15 @@ palest and the three darkest of the London Set by their cheeks' L*
   to the portrait's, :func:`exprclone.mouth.tone.tone_gain`; a coloured light on the driver
   narrows the contrasts of its interior's colours, which the same interior in white light
   shows). The judges: each at most the driver's.
+- expression: the blendshape judge (:mod:`exprclone.evaluation.blendshape_judge`) on every frame, the output's 52
+  scores against the driving frame's: their distance per region and in total (the mean over the frames), beside the
+  still portrait's distance to the same frames (what an output that never moved would score); the share of the
+  driver's rise it keeps (its rise from the portrait over the driver's from its neutral frame, on the scores the
+  driving frame raises most; the median over the frames where the driver moves; issue 57 asks for 0.7); and the
+  correlation over time of ``jawOpen``, the output's against the driver's, and how much of the driver's jaw opening the
+  output keeps (its ``jawOpen`` over the portrait's, summed over the frames, over the driver's over its neutral frame's:
+  :data:`JAW_MOVES` at least, or NaN). The judge: closer to the driving frames
+  than the still portrait.
 - motion: the correlation over time of the mouth opening (:func:`exprclone.mouth.measure.opening`),
   the driver's against the output's, both from landmarks found afresh on each frame; and, for
   diagnosis, the same with the output's rendered geometry (its final landmarks) in place of
@@ -61,6 +70,8 @@ LIP_DARKER = 3.0
 TEETH_TOP = 0.10
 #: frames with teeth in sight a case needs to be judged on its teeth.
 TEETH_FRAMES = 3
+#: the driver's jaw moves when its jawOpen rises by this much above its neutral frame's, on average over the frames.
+JAW_MOVES = 0.02
 #: the driver's head is still when its rigid landmarks move less than this (eye distances) from a frame to the next.
 STILL = 0.01
 
@@ -136,18 +147,56 @@ def afresh(images: list[np.ndarray], known: list[np.ndarray] | np.ndarray) -> np
     return np.array(found)
 
 
-def judge(case: tuple[Path, str, Path, int, str, tuple[float, float] | None]) -> dict:
-    """One clip driving one portrait (with its person's own teeth, :func:`own_teeth`): every measure of the module's notes."""
+def clip_scores(clip: Path) -> list[np.ndarray | None]:
+    """The blendshape scores of every frame of a clip (None where no face is found), read once for all its portraits."""
+    from exprclone.evaluation.runner import scores_of
+    from exprclone.io.video import read_frames
+
+    return [scores_of(frame, f"{clip.name} frame {k}") for k, frame in enumerate(read_frames(clip))]
+
+
+def expression(outputs: list[tuple[int, np.ndarray]], driver: list[np.ndarray | None], still: np.ndarray | None, neutral: int) -> dict:
+    """The blendshape judge of a driven clip (the module's notes): ``outputs`` are ``(frame index, output frame)``,
+    ``driver`` the driving frames' scores (:func:`clip_scores`), ``still`` the portrait's, ``neutral`` the driver's
+    neutral frame."""
+    from exprclone.evaluation.blendshape_judge import distances, rise_kept
+    from exprclone.evaluation.runner import scores_of
+    from exprclone.landmarks.blendshapes import NAMES
+
+    jaw_open, rest = NAMES.index("jawOpen"), driver[neutral]
+    seen, unmoved, kept, jaw = [], [], [], []
+    for k, image in outputs:
+        mine, theirs = scores_of(image, f"output frame {k}"), driver[k]
+        if mine is None or theirs is None or still is None or rest is None:
+            continue
+        seen.append(distances(mine, theirs))
+        unmoved.append(distances(still, theirs)["total"])
+        kept.append(rise_kept(rest, theirs, still, mine))
+        jaw.append((mine[jaw_open] - still[jaw_open], theirs[jaw_open] - rest[jaw_open]))
+    found = {f"to_driver_{region}": float(np.mean([d[region] for d in seen])) if seen else np.nan for region in ("mouth", "eyes", "brows")}
+    found["to_driver"] = float(np.mean([d["total"] for d in seen])) if seen else np.nan
+    found["still_to_driver"] = float(np.mean(unmoved)) if unmoved else np.nan
+    found["rise_kept"] = float(np.nanmedian(kept)) if np.isfinite(kept).any() else np.nan
+    found["jaw_r"] = float(np.corrcoef(np.array(jaw).T)[0, 1]) if len(jaw) > 2 else np.nan
+    rises = np.array(jaw).reshape(-1, 2).mean(0) if jaw else np.zeros(2)
+    found["jaw_kept"] = float(rises[0] / rises[1]) if rises[1] >= JAW_MOVES else np.nan
+    return found
+
+
+def judge(case: tuple[Path, str, Path, int, str, tuple[float, float] | None, list[np.ndarray | None]]) -> dict:
+    """One clip driving one portrait (with its person's own teeth, :func:`own_teeth`, and the clip's frames' blendshape
+    scores, :func:`clip_scores`): every measure of the module's notes."""
     from exprclone import drive
     from exprclone.drive import tracking
     from exprclone.drive.framing import resize_portrait
+    from exprclone.evaluation.runner import scores_of
     from exprclone.io.images import load_image
     from exprclone.io.video import probe, read_frames
     from exprclone.landmarks.backends import default_detector
     from exprclone.landmarks.layout import DLIB68
     from exprclone.mouth import measure, tone
 
-    data, face, clip, size, method, own = case
+    data, face, clip, size, method, own, driver_scores = case
     portrait = resize_portrait(load_image(data / "london/neutral_front" / f"{face}_03.jpg"), None, size)[0]
     portrait_points = default_detector().detect(portrait)
     recording = drive.prepare(
@@ -158,11 +207,12 @@ def judge(case: tuple[Path, str, Path, int, str, tuple[float, float] | None]) ->
     frames = list(read_frames(clip))
     driver_band = lip_band(frames[neutral], driver_points[neutral])
     portrait_band = lip_band(portrait, portrait_points)
-    seen, falls, driver_falls, outputs, finals, inner, driver_inner, relit = [], [], [], [], [], [], [], []
+    seen, falls, driver_falls, outputs, finals, inner, driver_inner, relit, indices = [], [], [], [], [], [], [], [], []
     reference = recording.driver.cloner.faces.mouth_reference
     for f in recording.frames(iter(frames)):
         final, points = f.result.landmarks["final"], driver_points[f.index]
         outputs.append(f.image)
+        indices.append(f.index)
         finals.append(final)
         if (t := teeth(f.image, final)) is not None:
             seen.append(t)
@@ -205,6 +255,7 @@ def judge(case: tuple[Path, str, Path, int, str, tuple[float, float] | None]) ->
         "relit_flicker": steps(relit),
         "correlation": float(np.corrcoef(opening, driver_opening)[0, 1]),
         "rendered_correlation": float(np.corrcoef(rendered, driver_opening)[0, 1]),
+        **expression(list(zip(indices, outputs)), driver_scores, scores_of(portrait, face), neutral),
     }
 
 
@@ -216,6 +267,7 @@ def verdicts(row: dict) -> dict[str, bool | None]:
         "lips": bool(row["lip_fall"] <= row["driver_lip_fall"] + LIP_DARKER) if np.isfinite(row["lip_fall"]) else None,
         "jitter": bool(row["jitter"] <= row["driver_jitter"]) if np.isfinite(row["jitter"]) else None,
         "flicker": bool(row["flicker"] <= row["driver_flicker"]) if np.isfinite(row["flicker"]) else None,
+        "expression": bool(row["to_driver"] < row["still_to_driver"]) if np.isfinite(row["to_driver"]) else None,
     }
 
 
@@ -238,11 +290,17 @@ def main() -> None:
     if not clips or not portraits:
         raise SystemExit(f"video_judges: no GRID clips ({data / 'grid'}/*.mpg) or no London portraits ({data / 'london'}) to judge")
     teeth_of = own_teeth(data, args.size)  # read once, for every case of a portrait and for the floor
-    cases = [(data, face, clip, args.size, args.method, over_cheeks(teeth_of.get(face))) for face in portraits for clip in clips]
+    driver_scores = {clip: clip_scores(clip) for clip in clips}  # read once, for every portrait a clip drives
+    cases = [
+        (data, face, clip, args.size, args.method, over_cheeks(teeth_of.get(face)), driver_scores[clip])
+        for face in portraits
+        for clip in clips
+    ]
     print(f"exprclone video judges: {args.method} at {args.size} px, portraits {' '.join(portraits)}, {len(clips)} GRID clips\n")
     print("clip | portrait | teeth frames | yellowness (own) | lightness (own) | lip fall (driver's) | ", end="")
-    print("jitter (driver's) | rendered jitter (tracked) | flicker (driver's; in the portrait's light) | opening r (rendered)")
-    print("---|---|---|---|---|---|---|---|---|---")
+    print("jitter (driver's) | rendered jitter (tracked) | flicker (driver's; in the portrait's light) | opening r (rendered) | ", end="")
+    print("expression to driver (still portrait's) | rise kept | jawOpen r (kept)")
+    print("---|---|---|---|---|---|---|---|---|---|---|---|---")
     rows = []
     with concurrent.futures.ProcessPoolExecutor(args.jobs) if args.jobs > 1 else contextlib.nullcontext() as pool:
         for row in (pool.map if pool else map)(judge, cases):
@@ -254,10 +312,15 @@ def main() -> None:
             cells += [f"{1000 * row['rendered_jitter']:.2f} ({1000 * row['tracked_jitter']:.2f})"]
             cells += [f"{row['flicker']:.2f} ({row['driver_flicker']:.2f}; {row['relit_flicker']:.2f})"]
             cells += [f"{row['correlation']:.2f} ({row['rendered_correlation']:.2f})"]
+            cells += [
+                f"{row['to_driver']:.3f} ({row['still_to_driver']:.3f})",
+                f"{row['rise_kept']:.2f}",
+                f"{row['jaw_r']:.2f} ({row['jaw_kept']:.2f})",
+            ]
             print(" | ".join(cells), flush=True)
     print("\njitter in thousandths of an eye distance; yellowness and lightness over the cheeks, in b* and L*")
     said = [verdicts(r) for r in rows]
-    for name in ("teeth", "lips", "jitter", "flicker"):
+    for name in ("teeth", "lips", "jitter", "flicker", "expression"):
         judged = [(r, v[name]) for r, v in zip(rows, said) if v[name] is not None]
         held = sum(ok for _, ok in judged)
         print(f"{name}: held on {held} of {len(judged)} cases judged", end="")
@@ -273,6 +336,20 @@ def main() -> None:
     judged = [r for r in rows if np.isfinite(r["flicker"])]
     relit = sum(r["flicker"] <= r["relit_flicker"] for r in judged)
     print(f"flicker at most the driver's interior's in the portrait's light on {relit} of {len(judged)} cases")
+    expression_summary(rows)
+
+
+def expression_summary(rows: list[dict]) -> None:
+    """The blendshape judge over the cases: the medians of each region's distance to the driving frames, the still
+    portrait's beside them, and the rise kept (the cases at 0.7 or more, issue 57's target)."""
+    regions = ", ".join(f"{r} {np.nanmedian([row[f'to_driver_{r}'] for row in rows]):.3f}" for r in ("mouth", "eyes", "brows"))
+    total, still = (np.nanmedian([row[k] for row in rows]) for k in ("to_driver", "still_to_driver"))
+    print(f"expression's distance to the driving frames (blendshapes, median of the cases): {regions}, total {total:.3f}", end="")
+    print(f" (the still portrait's {still:.3f})")
+    kept = np.array([row["rise_kept"] for row in rows])
+    print(f"driver's rise kept: median {np.nanmedian(kept):.2f}, least {np.nanmin(kept):.2f}, at least 0.7 on", end="")
+    jaw, jaw_kept = (np.nanmedian([row[k] for row in rows]) for k in ("jaw_r", "jaw_kept"))
+    print(f" {int((kept >= 0.7).sum())} of {int(np.isfinite(kept).sum())} cases; jawOpen r median {jaw:.2f}, its rise kept {jaw_kept:.2f}")
 
 
 if __name__ == "__main__":

@@ -158,6 +158,9 @@ def test_evaluate_on_two_pairs(london, tmp_path):
     summary = (out / "summary.md").read_text()
     assert "| e+md |" in summary and "| no change |" in summary and (out / "gallery.jpg").is_file()
     assert "| real | 2 | 0 | 0.0000 / 0.0000" in p.stdout
+    assert "| method | results judged | to the source's expression: mouth |" in summary  # the blendshape judge's table
+    scores = list(csv.DictReader(open(out / "blendshapes.csv")))
+    assert len(scores) == 2 * 4 and float(scores[0]["mouthSmileLeft"]) >= 0 and len(scores[0]) == 3 + 52
 
 
 def test_evaluate_rejects_an_unknown_method(london, tmp_path):

@@ -98,7 +98,9 @@ def score_target(
         except Exception as e:  # counted as a failure of every method, never dropped
             candidates.update({f"{m}{name}": (None, f"{type(e).__name__}: {e}", None, name) for m in methods})
     shown = teeth(expression.expression.image, expression.expression.points, DLIB68)
-    return runner.scored_rows(data, (expression.name, target), candidates, shown, landmarks)
+    neutral = runner.scores_of(expression.neutral.image, f"{expression.name} neutral")
+    made = runner.scores_of(expression.expression.image, f"{expression.name} expression")
+    return runner.scored_rows(data, (expression.name, target), candidates, shown, landmarks, (neutral, made))
 
 
 def _score(args: tuple[Dataset, str, Expression, tuple[str, ...], dict[str, np.ndarray], tuple[Variant, ...], np.ndarray]) -> list[Row]:

@@ -13,9 +13,11 @@ import cv2
 import numpy as np
 
 from ..io.images import save_image
+from ..landmarks.blendshapes import NAMES
 from ..landmarks.layout import DLIB68
 from ..methods import BY_NAME
 from ..mouth.measure import mouth_width
+from .blendshape_judge import RISE_TOP
 from .figures import face_box
 from .london import Dataset
 from .runner import FIELDS, PAPER, REFERENCES, Row, Variant, clone_pair, photo
@@ -63,6 +65,38 @@ def cells(s: Row) -> list[str]:
         "-" if np.isnan(s["warmth"]) else f"{s['warmth']:.3f} [{s['warmth_low']:.3f}, {s['warmth_high']:.3f}]",
         _share(s["grey"], s["warmth_n"]),
     ]
+
+
+#: the blendshape judge's table's columns after the method's name (:func:`blendshape_cells`).
+BLENDSHAPE_HEADER = (
+    "results judged",
+    "to the source's expression: mouth",
+    "eyes",
+    "brows",
+    "total",
+    "its change against the source's: mouth",
+    "total",
+    "to the target's real expression: total",
+    "source's rise kept (median)",
+)
+
+
+def blendshape_table(summary: list[Row]) -> str:
+    """A Markdown table of the blendshape judge's columns of :func:`summarise`'s output, each with its 95% interval."""
+    lines = ["| method | " + " | ".join(BLENDSHAPE_HEADER) + " |", "|" + "---|" * (1 + len(BLENDSHAPE_HEADER))]
+    lines += ["| " + " | ".join([s["method"], *blendshape_cells(s)]) + " |" for s in summary]
+    return "\n".join(lines)
+
+
+def blendshape_cells(s: Row) -> list[str]:
+    """A line of :func:`summarise`'s output as the blendshape judge's table shows it (:data:`BLENDSHAPE_HEADER`):
+    the distances' means and the rise kept's median, each ``0.123 [0.110, 0.135]`` ("-" where none was measured)."""
+    keys = ("to_source_mouth", "to_source_eyes", "to_source_brows", "to_source", "change_mouth", "change", "to_real", "rise_kept")
+    return [str(s["to_source_n"]), *(_interval(s, key) for key in keys)]
+
+
+def _interval(line: Row, key: str) -> str:
+    return "-" if np.isnan(line[key]) else f"{line[key]:.3f} [{line[key + '_low']:.3f}, {line[key + '_high']:.3f}]"
 
 
 def _cell(line: Row, score: str) -> str:
@@ -125,11 +159,13 @@ def tables(rows: list[Row], pair_rows: list[Row]) -> list[str]:
     another (:func:`alike`), the pairs whose target smiles strongly (a sentence when there are none), and the pair-by-pair
     comparisons of the variants if any; ``pair_rows`` are the rows of the pairs (not of built-in expressions)."""
     n_strong = len({(r["source"], r["target"]) for r in pair_rows if float(r["target_smile"]) >= STRONG_SMILE})
-    text = ["## All pairs", "", table(summarise(rows)), ""]
+    every = summarise(rows)
+    text = ["## All pairs", "", table(every), "", "The blendshape judge:", "", blendshape_table(every), ""]
     text += [line for sentence in alike(pair_rows) for line in (sentence, "")]
     strong = f"## Pairs whose target smiles strongly ({n_strong}: mouth widens by at least {STRONG_SMILE:.0%})"
     if n_strong:
-        text += [strong, "", table(summarise(rows, strong_only=True)), ""]
+        broad = summarise(rows, strong_only=True)
+        text += [strong, "", table(broad), "", "The blendshape judge:", "", blendshape_table(broad), ""]
     else:
         text += [strong, "", f"No target's real expression widens the mouth by {STRONG_SMILE:.0%}: no table.", ""]
     compared = contrasts(pair_rows)
@@ -162,6 +198,13 @@ def _introduction(command: str, data: Dataset, n_pairs: int) -> list[str]:
         "Shadow warmth: over the skin that darkens by more than 6 L* from the target's neutral photo (warped onto the",
         "result), the median of (C*/C*_neutral) / (L*/L*_neutral): 1 for a shading that dims R, G and B alike; real",
         f"skin's shadows are warmer. Grey shadows: the share of results under {GREY_WARMTH} (`exprclone.evaluation.scores.warmth`).",
+        "The blendshape judge (`exprclone.evaluation.blendshape_judge`) reads MediaPipe's 52 expression scores (0 to 1) on",
+        "each result: their Euclidean distance to the source's expression photo's, per region (mouth, eyes, brows) and in",
+        "total, and to the target's real expression's; the distance between its change from the target's neutral photo",
+        "and the source's change from its own (the motion alone: people's faces differ at rest; means, with 95% bootstrap",
+        "intervals over the pairs); and the share",
+        f"of the source's rise it keeps: over the {RISE_TOP} scores the source raises most from its neutral photo, the result's",
+        "rise from the target's neutral photo over the source's (median). Each result's 52 scores: `blendshapes.csv`.",
         "",
     ]
 
@@ -181,9 +224,10 @@ def write_report(
     returns its tables (:func:`tables`), for the terminal."""
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "pairs.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, FIELDS)
+        writer = csv.DictWriter(f, FIELDS, extrasaction="ignore")
         writer.writeheader()
         writer.writerows(rows)
+    _write_blendshapes(out / "blendshapes.csv", rows)
     pair_rows = [r for r in rows if r["source"] in data.photos]  # not a built-in expression's (sections)
     n_pairs = len({(r["source"], r["target"]) for r in pair_rows})
     shown = tables(rows, pair_rows)
@@ -214,6 +258,17 @@ def write_report(
         ]
     (out / "summary.md").write_text("\n".join(text))
     return "\n".join(shown)
+
+
+def _write_blendshapes(path: Path, rows: list[Row]) -> None:
+    """Each scored row's 52 blendshape scores (:data:`exprclone.landmarks.blendshapes.NAMES`), after its source, target
+    and method."""
+    with open(path, "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(["source", "target", "method", *NAMES])
+        for r in rows:
+            if r.get("blendshapes") is not None:
+                writer.writerow([r["source"], r["target"], r["method"], *(f"{v:.4f}" for v in r["blendshapes"])])
 
 
 def _warmth_sheet(

@@ -16,6 +16,12 @@ classifier on the landmarks detected on the image, trained on the data set's oth
 neither the source nor the target) finds that it smiles; the summary gives the share judged
 smiling.
 
+Every row also gives the blendshape judge's distances of its image's expression to the source's
+expression and to the target's real one, per region, and how much of the source's rise it keeps
+(:mod:`exprclone.evaluation.blendshape_judge`); its 52 scores ride along (``blendshapes``) for
+``blendshapes.csv``. The photos' own scores are read once per process while they are recent
+(:func:`photo_scores`), as the photos are.
+
 Each row says how strongly the target smiles (:func:`smile_strength`), so that the
 statistics (:mod:`exprclone.evaluation.statistics`) can be given for the strong smiles
 alone; :mod:`exprclone.evaluation.report` writes them out.
@@ -43,11 +49,11 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from ..errors import ExprCloneError, naming
+from ..errors import ExprCloneError, NoFaceError, naming
 from ..geometry import global_warp
 from ..io.images import load_image
 from ..io.progress import Display, Progress, Quiet
-from ..landmarks import align
+from ..landmarks import align, blendshapes
 from ..landmarks.backends import DEFAULT, shared
 from ..landmarks.layout import DLIB68
 from ..mouth.measure import mouth_width
@@ -57,6 +63,8 @@ from ..pipeline.request import Request
 from ..pipeline.result import CloneResult
 from ..pipeline.role_check import descriptor, identity_distance
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
+from . import blendshape_judge
+from .blendshape_judge import COLUMNS, Faces
 from .judge import trained_without
 from .london import Dataset
 from .scores import landmark_error, teeth, warmth
@@ -92,6 +100,7 @@ FIELDS = (
     "variant",
     "smiling",
     "warmth",
+    *COLUMNS,
 )
 #: a result to score, by its row's name: ``(image or None, failure, lambda_k, variant label)``.
 Candidate = tuple[np.ndarray | None, str, float | None, str]
@@ -103,6 +112,21 @@ PAPER: Variant = ("", Options())
 def photo(path: str) -> np.ndarray:
     """A photo, read once while it is among the last :data:`PHOTO_CACHE` used (pairs come sorted by source)."""
     return load_image(path)
+
+
+@functools.lru_cache(maxsize=PHOTO_CACHE)
+def photo_scores(path: str) -> np.ndarray | None:
+    """A photo's blendshape scores (:mod:`exprclone.landmarks.blendshapes`), None where no face is found; read once
+    while among the last :data:`PHOTO_CACHE` used."""
+    return scores_of(photo(path), path)
+
+
+def scores_of(image: np.ndarray, subject: str) -> np.ndarray | None:
+    """An image's blendshape scores ``(52,)`` by the process's judge, None where it finds no face."""
+    try:
+        return blendshapes.shared().scores(image, subject)
+    except NoFaceError:
+        return None
 
 
 def smile_strength(neutral: np.ndarray, smile: np.ndarray) -> float:
@@ -194,21 +218,28 @@ def score_pair(
     a, b = pair
     source_smile = data.path(a, True)
     source_teeth = teeth(photo(source_smile), landmarks[source_smile], DLIB68)
+    source_faces = (photo_scores(data.path(a, False)), photo_scores(source_smile))
     candidates: dict[str, Candidate] = {
         "no change": (photo(data.path(b, False)), "", None, ""),
         "real": (photo(data.path(b, True)), "", None, ""),
     }
     for variant in variants:
         candidates.update(_candidates(data, pair, methods, landmarks if inputs is None else inputs, variant))
-    return scored_rows(data, pair, candidates, source_teeth, landmarks)
+    return scored_rows(data, pair, candidates, source_teeth, landmarks, source_faces)
 
 
 def scored_rows(
-    data: Dataset, pair: tuple[str, str], candidates: dict[str, Candidate], source_teeth: float, landmarks: dict[str, np.ndarray]
+    data: Dataset,
+    pair: tuple[str, str],
+    candidates: dict[str, Candidate],
+    source_teeth: float,
+    landmarks: dict[str, np.ndarray],
+    source_faces: Faces,
 ) -> list[Row]:
     """Each of ``candidates`` (by row name; ``real`` and ``no change`` the target's own photos) scored against the real
     smile of ``pair``'s target, a row of :data:`FIELDS` each; the source (a person, or a built-in expression's name)
-    shows ``source_teeth``; the expression judge is trained without either (:func:`exprclone.evaluation.judge.trained_without`)."""
+    shows ``source_teeth``, and its neutral face and expression score ``source_faces`` on the blendshape judge
+    (:func:`blendshape_columns`); the expression judge is trained without either (:func:`exprclone.evaluation.judge.trained_without`)."""
     source, target = pair
     tn, ts = data.path(target, False), data.path(target, True)
     truth, known = landmarks[ts], {"real": landmarks[ts], "no change": landmarks[tn]}
@@ -232,9 +263,20 @@ def scored_rows(
                 row["warmth"] = "" if np.isnan(warm) else round(warm, 4)
             except ExprCloneError as e:
                 failed = str(e)
+        if image is not None and not failed:
+            row.update(blendshape_columns(method, image, source_faces, (tn, ts)))
         row["failed"] = failed
         rows.append(row)
     return rows
+
+
+def blendshape_columns(method: str, image: np.ndarray, source: Faces, target: tuple[str, str]) -> Row:
+    """The blendshape judge's columns of one result (:func:`exprclone.evaluation.blendshape_judge.judged`), against
+    the source's faces' scores and the target's photos (paths of its neutral and real expression), and its own
+    52 scores as ``blendshapes`` (None where no face is found); the references' are their photos'."""
+    faces = (photo_scores(target[0]), photo_scores(target[1]))
+    mine = dict(zip(REFERENCES, faces))[method] if method in REFERENCES else scores_of(image, f"{method} result")
+    return {**blendshape_judge.judged(mine, source, faces), "blendshapes": mine}
 
 
 def _score(

@@ -8,14 +8,18 @@ outer-eye-corner distance (head motion removed; :func:`exprclone.evaluation.runn
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 
 from ..pipeline.role_check import SAME_PERSON
+from .blendshape_judge import COLUMNS as BLENDSHAPE_COLUMNS
 from .judge import SMILING
 from .runner import REFERENCES, Row
 from .scores import GREY_WARMTH, TEETH_SHOWN
 
-#: resamples of the bootstrap interval of a median (:func:`median_interval`), and its seed.
+#: resamples of the bootstrap interval of a median or a mean (:func:`median_interval`, :func:`mean_interval`), and its seed.
 RESAMPLES, SEED = 2000, 0
 
 #: relative widening of the mouth (corner distance / eye-corner distance) that makes a
@@ -66,8 +70,22 @@ def summarise(rows: list[Row], strong_only: bool = False, baseline: str = "globa
             group = [float(r["teeth"]) >= TEETH_SHOWN for r in ok if (float(r["source_teeth"]) >= TEETH_SHOWN) == shown_in_source]
             line[count] = len(group)
             line[share] = float(np.mean(group)) if group else float("nan")
+        line.update(blendshape_summary(ok))
         out.append(line)
     return out
+
+
+def blendshape_summary(rows: list[Row]) -> Row:
+    """The blendshape judge's columns (:data:`exprclone.evaluation.blendshape_judge.COLUMNS`) over ``rows``: for each,
+    the mean of its distances (the median of the rise kept, a ratio) with a 95% bootstrap interval (``to_source``,
+    ``to_source_low``, ``to_source_high``) and how many rows have it (``to_source_n``)."""
+    line: Row = {}
+    for key in BLENDSHAPE_COLUMNS:
+        values = np.array([float(r[key]) for r in rows if r.get(key, "") != ""], np.float64)
+        centre = median_interval if key == "rise_kept" else mean_interval
+        line[key], line[f"{key}_low"], line[f"{key}_high"] = centre(values)
+        line[f"{key}_n"] = len(values)
+    return line
 
 
 def median_interval(values: np.ndarray) -> tuple[float, float, float]:
@@ -78,11 +96,27 @@ def median_interval(values: np.ndarray) -> tuple[float, float, float]:
     >>> median, low < 50 < high
     (50.0, True)
     """
+    return _bootstrap(values, np.median)
+
+
+def mean_interval(values: np.ndarray) -> tuple[float, float, float]:
+    """The mean of ``values`` and its 95% bootstrap interval (percentiles of :data:`RESAMPLES` resampled means); NaN
+    for no values.
+
+    >>> mean, low, high = mean_interval(np.arange(101.0))
+    >>> mean, low < 50 < high
+    (50.0, True)
+    """
+    return _bootstrap(values, np.mean)
+
+
+def _bootstrap(values: np.ndarray, statistic: Callable[..., Any]) -> tuple[float, float, float]:
+    """``statistic`` of ``values`` and the 2.5th and 97.5th percentiles of it over :data:`RESAMPLES` resamples."""
     if not len(values):
         return float("nan"), float("nan"), float("nan")
     drawn = np.random.default_rng(SEED).choice(values, (RESAMPLES, len(values)))
-    low, high = np.percentile(np.median(drawn, axis=1), (2.5, 97.5))
-    return float(np.median(values)), float(low), float(high)
+    low, high = np.percentile(statistic(drawn, axis=1), (2.5, 97.5))
+    return float(statistic(values)), float(low), float(high)
 
 
 def pair_of(row: Row) -> tuple[str, str, str]:

@@ -72,8 +72,8 @@ def _quiet_stderr() -> Iterator[None]:
         os.close(read)
 
 
-class _Model:
-    """One LiteRT model of ``exprclone/landmarks/mediapipe_models``: float32 NHWC image in, its outputs out."""
+class Model:
+    """One LiteRT model of ``exprclone/landmarks/mediapipe_models``: one float32 input in (an NHWC image, or points), its outputs out."""
 
     def __init__(self, name: str) -> None:
         try:
@@ -83,17 +83,20 @@ class _Model:
         path = resources.files(__package__) / "mediapipe_models" / name
         if not path.is_file():
             raise ExprCloneError(str(path), "model file missing; reinstall exprclone")
-        self._interpreter = Interpreter(model_path=str(path), num_threads=1)
+        #: the file it was read from, inside the package.
+        self.path = str(path)
+        self._interpreter = Interpreter(model_path=self.path, num_threads=1)
         with _quiet_stderr():
             self._interpreter.allocate_tensors()
         self._input = self._interpreter.get_input_details()[0]["index"]
         self._outputs = [d["index"] for d in self._interpreter.get_output_details()]
 
-    def __call__(self, image: np.ndarray) -> list[np.ndarray]:
-        """The model's outputs for one ``(S, S, 3)`` float32 image, batch axis removed."""
-        self._interpreter.set_tensor(self._input, image[None])
+    def __call__(self, x: np.ndarray) -> list[np.ndarray]:
+        """The model's outputs for one float32 input (an ``(S, S, 3)`` image, ``(N, 2)`` points), the batch axis removed
+        where an output has one (the blendshape model's scores have none)."""
+        self._interpreter.set_tensor(self._input, x[None])
         self._interpreter.invoke()
-        return [self._interpreter.get_tensor(i)[0] for i in self._outputs]
+        return [t[0] if t.ndim > 1 else t for t in map(self._interpreter.get_tensor, self._outputs)]
 
 
 @dataclass(frozen=True)
@@ -180,14 +183,18 @@ class MeshDetector:
 
     #: its name among :data:`exprclone.landmarks.backends.LANDMARKERS`.
     name = "mesh"
+    #: the mesh model's file in ``mediapipe_models`` and its input side, in pixels.
+    mesh_model, mesh_size = "face_landmark.tflite", MESH_SIZE
+    #: what the error of a photo without a face advises.
+    advice = "use a photo that shows the face whole, or give its landmarks"
 
     def __init__(self) -> None:
-        self._models: tuple[_Model, _Model] | None = None
+        self._models: tuple[Model, Model] | None = None
 
-    def _load(self) -> tuple[_Model, _Model]:
+    def _load(self) -> tuple[Model, Model]:
         """BlazeFace and the mesh model, loaded on the first call."""
         if self._models is None:
-            self._models = (_Model("face_detection_short_range.tflite"), _Model("face_landmark.tflite"))
+            self._models = (Model("face_detection_short_range.tflite"), Model(self.mesh_model))
         return self._models
 
     def detections(self, image: np.ndarray) -> blazeface.Detections:
@@ -208,24 +215,25 @@ class MeshDetector:
         return sorted(boxes, key=lambda b: -(b[2] - b[0]) * (b[3] - b[1]))
 
     def mesh(self, image: np.ndarray, roi: Roi) -> tuple[np.ndarray, float]:
-        """The 468 mesh points ``(468, 2)`` in photo pixels fitted in one crop, and the model's face probability there."""
-        to_photo = roi.matrix(MESH_SIZE)
+        """The mesh points ``(P, 2)`` in photo pixels fitted in one crop (468; 478 with the irises of
+        :class:`exprclone.landmarks.blendshapes.IrisMesh`), and the model's face probability there."""
+        to_photo = roi.matrix(self.mesh_size)
         flags = cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP
-        crop = cv2.warpAffine(image, to_photo, (MESH_SIZE, MESH_SIZE), flags=flags, borderMode=cv2.BORDER_REPLICATE)
-        points, presence = self._load()[1](to_unit_range(crop, 0.0))
+        crop = cv2.warpAffine(image, to_photo, (self.mesh_size, self.mesh_size), flags=flags, borderMode=cv2.BORDER_REPLICATE)
+        points, presence = self._load()[1](to_unit_range(crop, 0.0))[:2]
         xy = points.reshape(-1, 3)[:, :2]
         probability = 1.0 / (1.0 + np.exp(-float(presence.ravel()[0])))
         return xy @ to_photo[:, :2].T + to_photo[:, 2], probability
 
     def refine(self, image: np.ndarray, roi: Roi) -> np.ndarray:
-        """The mesh fitted in ``roi``, then again in the crop its own points give, :data:`REFINE_PASSES` times; ``(468, 2)``."""
+        """The mesh fitted in ``roi``, then again in the crop its own points give, :data:`REFINE_PASSES` times; ``(P, 2)``."""
         points, _ = self.mesh(image, roi)
         for _ in range(REFINE_PASSES):
             points, _ = self.mesh(image, Roi.around(points, *points[list(MESH_EYE_CORNERS)]))
         return points
 
     def fit_mesh(self, image: np.ndarray, box: tuple[float, float, float, float]) -> np.ndarray:
-        """The 468 mesh points of the face in ``box`` (upright: the refinement turns the crop with the face); ``(468, 2)``."""
+        """The mesh points of the face in ``box`` (upright: the refinement turns the crop with the face); ``(P, 2)``."""
         return self.refine(image, Roi.of_box(np.asarray(box, float)))
 
     def fit(self, image: np.ndarray, box: tuple[float, float, float, float]) -> np.ndarray:
@@ -233,9 +241,9 @@ class MeshDetector:
         return to_68(self.fit_mesh(image, box))
 
     def detect_mesh(self, image: np.ndarray, subject: str = "image") -> np.ndarray:
-        """The 468 mesh points of the largest face in ``image``; as :meth:`detect`, whose errors and warnings it gives."""
+        """The mesh points of the largest face in ``image``, ``(P, 2)``; as :meth:`detect`, whose errors and warnings it gives."""
         found = self.detections(image)
-        one_face(len(found), subject, "use a photo that shows the face whole, or give its landmarks", stacklevel=3)
+        one_face(len(found), subject, self.advice, stacklevel=3)
         largest = int(np.argmax(np.prod(found.boxes[:, 2:] - found.boxes[:, :2], axis=1)))
         eyes = found.keypoints[largest, [blazeface.RIGHT_EYE, blazeface.LEFT_EYE]]
         return self.refine(image, Roi.of_box(found.boxes[largest], *eyes))
