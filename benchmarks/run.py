@@ -10,6 +10,9 @@ Prints, for the sample photos at 512x512 and at their full 1350x1350:
     landmark detection on all three photos included;
   * e+md against global end to end, the two run in turn (both see the same load: the
     ratio of the two is what the speed targets are stated in);
+  * Song et al.'s method against global warping + ERI, and each method of Fig. 11 on the
+    VTC global warp against the same method on the paper's similarity, all in turn (issue
+    54's targets: at most 50 ms more at 1350, landmarks known);
   * at 1350x1350, issue 52's speed targets on the package's sample smile of 126 onto 003 (its
     teeth show: e+md pastes the mouth's interior): one ``cv2.remap`` of the target photo (maps
     precomputed), a global and an e+md clone with landmarks known, all in turn, through
@@ -46,13 +49,14 @@ from exprclone import METHODS, clone, clone_methods
 from exprclone.data import photo as sample_photo
 from exprclone.data import sets as datasets
 from exprclone.details import muscle
-from exprclone.geometry import db_metric, eigenface, elastic, global_warp, local_warp
+from exprclone.geometry import db_metric, eigenface, elastic, global_warp, local_warp, vtc
 from exprclone.geometry.eigenface import default_eigenfaces
 from exprclone.imaging import piecewise, tps
 from exprclone.imaging.warpers import tps_refine
 from exprclone.io.images import load_image
 from exprclone.landmarks.backends import default_detector
 from exprclone.landmarks.layout import DLIB68
+from exprclone.methods import FIG11
 from exprclone.pipeline import render
 from exprclone.pipeline import stages as stages_
 from exprclone.pipeline.request import Request, pair
@@ -112,6 +116,9 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
         "mesh": median_ms(lambda: piecewise.build_mesh(tn, tn_img.shape, DLIB68), repeat),
         "global (landmarks)": median_ms(lambda: global_warp.global_landmarks(sn, se, tn, DLIB68), repeat),
         "global RBF (landmarks, Jacobians included)": median_ms(lambda: global_warp.rbf_landmarks(sn, se, tn, DLIB68), repeat),
+        "global VTC (landmarks, tents factorised included)": median_ms(
+            lambda: vtc.vtc_landmarks(sn, se, tn, DLIB68, vtc.Tents.of(tn, nb)), repeat
+        ),
         "local (landmarks)": median_ms(lambda: local_warp.local_landmarks(gl, se, DLIB68), repeat),
         "elastic (1 lambda)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, 1.0), repeat),
         "elastic (13 lambdas at once, every pass)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, lambdas), repeat),
@@ -125,6 +132,9 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
         "ERI (both source photos warped on its grid)": median_ms(
             lambda: render.ratio(faces, rendered.control, prepared.photo, cloner.transfer, "mesh"), repeat
         ),
+        "mesh image (the ERI's on the shared mesh, warped onto FI)": median_ms(
+            lambda: render.ratio(faces, rendered.control, prepared.photo, cloner.transfer, "mesh", kind="mesh"), repeat
+        ),
         "MD mask (Eqs. 10-11)": median_ms(
             lambda: muscle.importance_mask(tn_img.shape[:2], centres, radii, h, muscle.mask_step(radii)), repeat
         ),
@@ -133,8 +143,9 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
 
 def methods(images, lms, repeat: int) -> dict[str, float]:
     out = {m: median_ms(lambda m=m: clone(*images, method=m, landmarks=lms), repeat) for m in METHODS}
-    out["all 7 methods (clone_methods)"] = median_ms(lambda: clone_methods(*images, landmarks=lms), repeat)
-    out["e+md, --global-warp rbf"] = median_ms(lambda: clone(*images, method="e+md", landmarks=lms, global_warp="rbf"), repeat)
+    out[f"all {len(METHODS)} methods (clone_methods)"] = median_ms(lambda: clone_methods(*images, landmarks=lms), repeat)
+    for warp in ("rbf", "vtc"):
+        out[f"e+md, --global-warp {warp}"] = median_ms(lambda w=warp: clone(*images, method="e+md", landmarks=lms, global_warp=w), repeat)
     out["e+md, --image-warp tps"] = median_ms(lambda: clone(*images, method="e+md", landmarks=lms, image_warp="tps"), repeat)
     out["global, --image-warp tps (against global: the warp's cost)"] = median_ms(
         lambda: clone(*images, method="global", landmarks=lms, image_warp="tps"), repeat
@@ -147,6 +158,25 @@ def against_global(images, lms, repeat: int) -> dict[str, float]:
     """e+md and global end to end (landmarks known) in turn, 3x as many runs: the methods' medians above are taken one
     method after the other, and this machine's load drifts between them."""
     return interleaved_ms({m: lambda m=m: clone(*images, method=m, landmarks=lms) for m in ("global", "e+md")}, 3 * repeat)
+
+
+#: what each row of :func:`song_against_peers` is measured against (issue 54's targets: at most 50 ms more).
+PEERS = {"song": "global+eri", **{f"{m}, --global-warp vtc": m for m in FIG11}}
+
+
+def song_against_peers(images, lms, repeat: int) -> dict[str, float]:
+    """Song et al.'s method, the methods of Fig. 11 and each of them on the VTC global warp, end to end (landmarks
+    known), all in turn so that all see the same load."""
+    fns = {m: lambda m=m: clone(*images, method=m, landmarks=lms) for m in (*FIG11, "song")}
+    fns |= {f"{m}, --global-warp vtc": lambda m=m: clone(*images, method=m, landmarks=lms, global_warp="vtc") for m in FIG11}
+    return interleaved_ms(fns, 2 * repeat)
+
+
+def show_against(title: str, rows: dict[str, float], peers: dict[str, str]) -> None:
+    """Each row of ``peers`` with its time and its difference to its peer's."""
+    print(f"\n{title}")
+    for name, peer in peers.items():
+        print(f"  {name:60s} {rows[name]:9.1f} ms  ({rows[name] - rows[peer]:+.1f} ms against {peer}, {rows[peer]:.1f} ms)")
 
 
 #: issue 52's speed targets: a global clone within this many remaps of the photo, e+md within this many global clones.
@@ -291,6 +321,11 @@ def main() -> None:
         show(f"stages at {size}x{size}", stages(images, lms, args.repeat))
         show(f"methods end to end at {size}x{size} (landmarks known unless said)", methods(images, lms, args.repeat))
         show(f"e+md against global at {size}x{size}, in turn, ratio to global", against_global(images, lms, args.repeat), "global")
+        show_against(
+            f"Song et al.'s method and the VTC global warp at {size}x{size}, in turn (landmarks known)",
+            song_against_peers(images, lms, args.repeat),
+            PEERS,
+        )
         if size == 1350:
             rows = speed_targets(*teeth_photos(), args.repeat)
             show("issue 52's speed targets at 1350x1350 (landmarks known), in turn, ratio to the remap", rows, "cv2.remap of the photo")

@@ -1,11 +1,11 @@
 """exprclone: facial expression cloning with elastic and muscle models.
 
 An implementation of Zhang, Lin et al., "Facial Expression Cloning with Elastic and
-Muscle Models" (the E+MD algorithm) and of the other methods it compares (Fig. 11).
+Muscle Models" (the E+MD algorithm) and of the other methods it compares (Fig. 11, and Song et al.'s of Figs. 16-17).
 
 >>> import exprclone
 >>> exprclone.METHODS
-('global', 'local', 'elastic', 'global+eri', 'local+eri', 'elastic+eri', 'e+md')
+('global', 'local', 'elastic', 'global+eri', 'local+eri', 'elastic+eri', 'e+md', 'song')
 >>> exprclone.Options(method="global", strength=0.5)
 Options(method='global', strength=0.5)
 """

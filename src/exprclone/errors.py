@@ -41,7 +41,7 @@ class ExprCloneError(ValueError):
     ...     exprclone.clone(data.photo("126"), data.photo("126", "smile"), data.photo("003"), method="emd")
     ... except ExprCloneError as error:
     ...     print(error.subject, "|", error.problem)
-    method | unknown method 'emd'; choose one of: global, local, elastic, global+eri, local+eri, elastic+eri, e+md
+    method | unknown method 'emd'; choose one of: global, local, elastic, global+eri, local+eri, elastic+eri, e+md, song
     """
 
     def __init__(self, subject: str | os.PathLike[str], problem: str) -> None:

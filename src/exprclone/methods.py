@@ -1,4 +1,5 @@
-"""The seven methods of the paper's Fig. 11 as data: a shape stage and the detail stages after it.
+"""The methods as data: the seven of the paper's Fig. 11 and Song et al.'s of its Figs. 16-17, each a shape stage and
+the detail stages after it.
 
 Pure data, kept apart from the pipeline so that the command line can list the methods
 without loading numpy, OpenCV and SciPy. A method is looked up by name once, at the door
@@ -6,8 +7,8 @@ without loading numpy, OpenCV and SciPy. A method is looked up by name once, at 
 
 >>> [m.name for m in TABLE if m.shape == "elastic"]
 ['elastic', 'elastic+eri', 'e+md']
->>> lookup(("e+md",))[0].details
-('eri', 'md')
+>>> lookup(("e+md",))[0].details, lookup(("song",))[0].stage
+(('eri', 'md'), 'global@vtc')
 """
 
 from __future__ import annotations
@@ -18,17 +19,19 @@ from .errors import ExprCloneError, quoted
 
 #: the shape stages, in the order they are computed (each may use the ones before it).
 SHAPES = ("global", "local", "elastic")
+#: the ratios a method's details may apply: Liu et al.'s expression ratio image, or Song et al.'s mesh image.
+RATIOS = ("eri", "mesh")
 
 
 @dataclass(frozen=True)
 class Method:
-    """One method of Fig. 11.
+    """One method: of Fig. 11, or Song et al.'s.
 
     Attributes
     ----------
     name : str
     panel : str
-        Its letter in Figs. 11-13.
+        Its letter in Figs. 11-13; empty for a method not in them.
     title : str
         Its name in a person's words, as a page shows it.
     sentence : str
@@ -37,8 +40,12 @@ class Method:
         The landmarks it warps the target to: ``global`` (GI), ``local`` (LI) or
         ``elastic`` (the elastic model's balance of the two, Eqs. 3-8).
     details : tuple of str
-        The illumination-detail stages after the warp: ``eri`` (Liu et al.'s expression
-        ratio image), ``md`` (the muscle-distribution model weighting it, Eqs. 9-11).
+        The illumination-detail stages after the warp: first the ratio it applies (:data:`RATIOS`: ``eri``, Liu et
+        al.'s expression ratio image, or ``mesh``, Song et al.'s mesh image), then ``md`` (the muscle-distribution
+        model weighting it, Eqs. 9-11).
+    warp : str or None
+        The global warp its shapes start from whatever the options' (one of
+        :data:`exprclone.options.GLOBAL_WARPS`: ``vtc`` for Song et al.'s); None: the options' ``global_warp``.
     """
 
     name: str
@@ -47,6 +54,7 @@ class Method:
     sentence: str
     shape: str
     details: tuple[str, ...] = ()
+    warp: str | None = None
 
     @property
     def uses_lambda(self) -> bool:
@@ -55,8 +63,23 @@ class Method:
 
     @property
     def eri(self) -> bool:
-        """Whether the ERI is applied (and, with it, the mouth interior pasted)."""
+        """Whether Liu et al.'s ERI is applied."""
         return "eri" in self.details
+
+    @property
+    def ratio(self) -> str | None:
+        """The ratio its details apply (:data:`RATIOS`), None without details; with one, the mouth interior is pasted."""
+        return next((d for d in self.details if d in RATIOS), None)
+
+    def key(self, stage: str) -> str:
+        """The name under which this method's shape stage ``stage`` (of :data:`SHAPES`) is kept among a prepared clone's
+        shapes: ``stage`` on the options' global warp, ``stage@warp`` on its own :attr:`warp`."""
+        return stage if self.warp is None else f"{stage}@{self.warp}"
+
+    @property
+    def stage(self) -> str:
+        """The name its own shape is kept under (:meth:`key`)."""
+        return self.key(self.shape)
 
     @property
     def md(self) -> bool:
@@ -100,12 +123,26 @@ TABLE = (
         "elastic",
         ("eri", "md"),
     ),
+    Method(
+        "song",
+        "",
+        "Song et al.",
+        "Song et al.'s: each small patch of the face bends as the source's did, the source's folds and shadows of the"
+        " expression carried over as seen on a face halfway between the two people.",
+        "global",
+        ("mesh",),
+        warp="vtc",
+    ),
 )
-#: the methods' names, in the order of Fig. 11.
+#: the methods' names: Fig. 11's in its order, then Song et al.'s.
 METHODS = tuple(m.name for m in TABLE)
+#: the seven methods of Fig. 11, in its order.
+FIG11 = tuple(m.name for m in TABLE if m.panel)
 #: the paper's figures that compare methods (``exprclone compare --figure``): Fig. 11 (with Figs. 12-13), the seven
-#: methods; Fig. 19 (with Figs. 20-21), the elastic model on the result of another global warp.
-FIGURES = ("11", "19")
+#: methods; Fig. 16, E+MD beside global warping + ERI, Song et al.'s method and elastic + ERI; Fig. 17, Song et al.'s
+#: method beside elastic + ERI and E+MD on its global warp; Fig. 19 (with Figs. 20-21), the elastic model on the
+#: result of another global warp.
+FIGURES = ("11", "16", "17", "19")
 BY_NAME = {m.name: m for m in TABLE}
 
 

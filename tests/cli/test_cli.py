@@ -227,6 +227,22 @@ def test_compare_draws_figure_19(london, tmp_path):
     assert Image.open(out).size == (6 * 320, 320) and "global warp rbf" in p.stdout
 
 
+@pytest.mark.parametrize("figure, methods", [("16", 4), ("17", 3)])
+def test_compare_draws_figures_16_and_17(london, tmp_path, figure, methods):
+    """Song et al.'s method beside the paper's (Fig. 16), and the elastic model and E+MD on its global warp (Fig. 17):
+    the target, the methods, the source, then E+MD's difference to Song et al.'s and the DB curve."""
+    out = tmp_path / f"fig{figure}.png"
+    p = run("compare", SN, SE, TN, "-o", out, "--figure", figure)
+    assert p.returncode == 0, p.stderr
+    assert Image.open(out).size == ((methods + 4) * 320, 320) and f"Fig. {figure}, {methods} methods, lambda_k=" in p.stdout
+
+
+def test_figure_17_shows_song_et_als_global_warp_alone(london, tmp_path):
+    p = run("compare", SN, SE, TN, "-o", tmp_path / "f.png", "--figure", "17", "--global-warp", "rbf")
+    assert p.returncode == 2 and "global_warp: Fig. 17 shows the methods on Song et al.'s global warp, vtc" in p.stderr, p.stderr
+    assert not (tmp_path / "f.png").exists()
+
+
 @pytest.mark.parametrize(
     "args,needle",
     [

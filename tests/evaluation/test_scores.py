@@ -178,6 +178,14 @@ def test_variants_pair_with_global_in_their_own_variant_and_with_the_paper():
     assert "| global [rbf] - global | 2 | -0.0100 ± 0.0000 |" in contrast_table(contrasts(rows))
 
 
+def test_song_et_als_method_is_paired_with_global_warping_and_eri_and_e_md_with_it():
+    """Figs. 16-17's comparisons, pair by pair: Song et al.'s against global + ERI, E+MD against Song et al.'s."""
+    rows = [scored(m, pair, mouth, 0.2) for pair in ("ab", "ac") for m, mouth in (("global+eri", 0.04), ("song", 0.05), ("e+md", 0.03))]
+    lines = {c["compared"]: c for c in contrasts(rows)}
+    assert list(lines) == ["e+md - global+eri", "song - global+eri", "e+md - song"]
+    assert lines["song - global+eri"]["mouth_mean"] == pytest.approx(0.01) and lines["e+md - song"]["mouth_mean"] == pytest.approx(-0.02)
+
+
 def test_variants_are_every_combination_named_after_their_options():
     chosen = variants(("similarity", "rbf"), ("mesh", "tps"), (1.0,))
     assert [label for label, _ in chosen] == ["", " [tps]", " [rbf]", " [rbf, tps]"]

@@ -4,11 +4,12 @@ import numpy as np
 import pytest
 
 import exprclone
-from exprclone.geometry import elastic, global_warp, local_warp
+from exprclone.geometry import elastic, global_warp, local_warp, vtc
 from exprclone.imaging import piecewise, warpers
 from exprclone.landmarks import align, lips
 from exprclone.landmarks.backends import default_detector
 from exprclone.landmarks.layout import DLIB68
+from exprclone.methods import BY_NAME
 
 MOUTH = list(DLIB68.mouth_outer)
 
@@ -84,16 +85,21 @@ def test_no_expression_leaves_the_target_as_it_was(pair):
     assert not np.allclose(r.landmarks["final"], tn_lm)
 
 
-@pytest.mark.parametrize("warp_name", ["similarity", "rbf"])
+@pytest.mark.parametrize("warp_name", ["similarity", "rbf", "vtc"])
 def test_without_retargeting_the_shape_stages_are_the_papers(pair, warp_name):
     """``retarget=False``: GI carries the source's own motion, LI gives each organ the source's own shape (Eqs. 1-2), and
     the elastic model balances the two (Eqs. 3-6), each stage exactly as its function of the paper computes it."""
     images, landmarks = pair
     s_neu, s_exp, t_neu = (lips.uncross(p, DLIB68) for p in landmarks)
-    carry = dict(similarity=global_warp.global_landmarks, rbf=global_warp.rbf_landmarks)[warp_name]
+    neighbours = piecewise.build_mesh(t_neu, images[2].shape, DLIB68).neighbours()
+    tents = vtc.Tents.of(t_neu, neighbours)
+    carry = dict(
+        similarity=global_warp.global_landmarks,
+        rbf=global_warp.rbf_landmarks,
+        vtc=lambda sn, se, tn, layout: vtc.vtc_landmarks(sn, se, tn, layout, tents),
+    )[warp_name]
     gi = carry(s_neu, s_exp, t_neu, DLIB68)
     li = local_warp.local_landmarks(gi, s_exp, DLIB68)
-    neighbours = piecewise.build_mesh(t_neu, images[2].shape, DLIB68).neighbours()
     paper = {"global": gi, "local": li, "elastic": elastic.elastic_landmarks(gi, li, neighbours, 1.0)}
     for retarget in (False, True):
         r = exprclone.clone(*images, method="elastic", lambda_k=1.0, landmarks=landmarks, global_warp=warp_name, retarget=retarget)
@@ -157,7 +163,8 @@ def test_given_global_landmarks_equal_to_the_default_gi_give_the_default_result(
     given = exprclone.clone_methods(*images, landmarks=landmarks, global_landmarks=results["global"].landmarks["global"])
     for method, r in given.items():
         assert np.array_equal(r.image, results[method].image), method
-        assert r.lambda_k == results[method].lambda_k and r.options.global_stage == "given"
+        # Song et al.'s method keeps its own global warp, and says so
+        assert r.lambda_k == results[method].lambda_k and r.options.global_stage == (BY_NAME[method].warp or "given")
 
 
 def test_other_global_landmarks_are_refined_by_the_elastic_model(pair, results):
@@ -168,14 +175,15 @@ def test_other_global_landmarks_are_refined_by_the_elastic_model(pair, results):
     assert not np.allclose(given["elastic"].landmarks["elastic"], gi)  # moved towards its own LI
 
 
-def test_the_rbf_global_warp_runs_every_method(pair, results):
+@pytest.mark.parametrize("warp_name", ["rbf", "vtc"])
+def test_another_global_warp_runs_every_method(pair, results, warp_name):
     images, landmarks = pair
-    rbf = exprclone.clone_methods(*images, landmarks=landmarks, global_warp="rbf")
-    for method, r in rbf.items():
-        assert r.image.shape == images[2].shape and r.options.global_warp == "rbf", method
-    assert not np.allclose(rbf["global"].landmarks["global"], results["global"].landmarks["global"])
-    # local re-shaping starts from the RBF GI, and the DB metric measures against it
-    assert np.array_equal(rbf["e+md"].landmarks["global"], rbf["global"].landmarks["global"])
+    other = exprclone.clone_methods(*images, landmarks=landmarks, global_warp=warp_name)
+    for method, r in other.items():
+        assert r.image.shape == images[2].shape and r.options.global_warp == (BY_NAME[method].warp or warp_name), method
+    assert not np.allclose(other["global"].landmarks["global"], results["global"].landmarks["global"])
+    # local re-shaping starts from the other GI, and the DB metric measures against it
+    assert np.array_equal(other["e+md"].landmarks["global"], other["global"].landmarks["global"])
 
 
 def test_the_tps_image_warp_takes_the_same_geometry(pair, results):
@@ -249,3 +257,38 @@ def test_a_prepared_clone_renders_what_a_whole_clone_gives(pair, results):
     with pytest.raises(exprclone.ExprCloneError) as refused:
         prepared.render(global_warp="rbf")
     assert refused.value.subject == "global_warp" and "prepare" in refused.value.problem
+
+
+def test_song_warps_by_vtc_whatever_the_options_and_paints_its_mesh_image(pair, results):
+    """Song et al.'s method: the VTC transfer's geometry beside the others' (similarity GI here), its mesh image and the
+    mouth interior; alone as with the others."""
+    images, landmarks = pair
+    song = results["song"]
+    on_vtc = exprclone.clone(*images, method="global+eri", landmarks=landmarks, global_warp="vtc")
+    assert np.array_equal(song.landmarks["global"], on_vtc.landmarks["global"])
+    assert np.array_equal(song.landmarks["final"], on_vtc.landmarks["final"])
+    assert not np.allclose(song.landmarks["global"], results["global+eri"].landmarks["global"])
+    assert song.options.global_warp == "vtc" and song.lambda_k is None and song.muscle_mask is None
+    assert song.eri is not None and not np.array_equal(song.image, on_vtc.image)
+    alone = exprclone.clone(*images, method="song", landmarks=landmarks)
+    assert np.array_equal(alone.image, song.image)
+
+
+def test_song_takes_no_other_global_warp(pair):
+    images, landmarks = pair
+    for options, subject in ((dict(global_warp="rbf"), "global_warp"), (dict(global_landmarks=landmarks[2]), "global_landmarks")):
+        with pytest.raises(exprclone.ExprCloneError, match=f"^{subject}: method song warps by its own global warp, vtc; drop"):
+            exprclone.clone(*images, method="song", landmarks=landmarks, **options)
+    assert exprclone.clone(*images, method="song", landmarks=landmarks, global_warp="vtc").options.global_warp == "vtc"
+
+
+def test_a_prepared_clone_on_vtc_travels_to_another_process(pair):
+    """The server sends prepared clones between processes: one on the VTC warp (its tents' factor is SciPy's, which
+    cannot be pickled) renders there as here."""
+    import pickle
+
+    images, landmarks = pair
+    prepared = exprclone.prepare(*images, ("song", "e+md"), landmarks=landmarks, global_warp="vtc")
+    here = prepared.render(strength=0.5)
+    there = pickle.loads(pickle.dumps(prepared)).render(strength=0.5)
+    assert all(np.array_equal(here[m].image, there[m].image) for m in here)

@@ -110,6 +110,13 @@ def test_compare_answers_the_sheet(client):
     assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (8 * 320, 3 * 320)
 
 
+def test_compare_answers_figure_17_on_song_et_als_global_warp_alone(client):
+    r = client.post("/api/compare", files=files(), data={"figure": "17"})
+    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (7 * 320, 320)
+    r = client.post("/api/compare", files=files(), data={"figure": "17", "global_warp": "rbf"})
+    assert r.status_code == 400 and r.json()["error"].startswith("global_warp: Fig. 17 shows the methods on Song et al.'s global warp")
+
+
 def test_landmarks_of_one_photo(client):
     r = client.post("/api/landmarks", files={"photo": ("p.jpg", samples.path("001").read_bytes())})
     found = r.json()
@@ -135,6 +142,7 @@ def test_each_landmarker_reaches_the_api_and_the_record(client, name):
         (dict(source_expression=("s.jpg", b"")), {}, 400, "source_expression: "),
         (dict(target_neutral=("t.png", grey())), {}, 422, "target_neutral: no face found"),
         ({}, {"method": "warp"}, 400, "method: unknown method 'warp'"),
+        ({}, {"method": "song", "global_warp": "rbf"}, 400, "global_warp: method song warps by its own global warp, vtc"),
         ({}, {"lambda": "-1"}, 400, "lambda: must be 'auto' or a number >= 0"),
         ({}, {"landmarker": "hog"}, 400, "landmarker: unknown landmarker 'hog'; choose one of: dlib, mesh"),
         ({}, {"lambda": "nan"}, 400, "lambda: "),
@@ -358,6 +366,17 @@ def test_clone_with_the_transfer_options_answers_the_python_apis_image(client, s
     assert np.array_equal(image, expected.image)
 
 
+@pytest.mark.parametrize("form", [{"method": "song"}, {"method": "elastic+eri", "global_warp": "vtc", "lambda": "1"}])
+def test_song_and_its_global_warp_answer_the_python_apis_image(client, sample_images, form):
+    images, landmarks = sample_images
+    expected = exprclone.clone(*images, landmarks=tuple(landmarks), options=exprclone.Options.from_text(form))
+    r = client.post("/api/clone?format=json", files=files(), data=form)
+    assert r.status_code == 200, r.text
+    assert r.json()["options"]["global_warp"] == "vtc"
+    image = np.asarray(Image.open(io.BytesIO(base64.b64decode(r.json()["png"]))).convert("RGB"))
+    assert np.array_equal(image, expected.image)
+
+
 def test_strength_zero_answers_the_target(client, sample_images):
     images, _ = sample_images
     r = client.post("/api/clone", files=files(), data={"strength": "0"})
@@ -389,7 +408,7 @@ def test_compare_draws_figure_19(client):
         ({}, {"strength": "strong"}, "strength: "),
         ({}, {"only": "nose"}, "only: unknown region 'nose'"),
         ({}, {"retarget": "perhaps"}, "retarget: "),
-        ({}, {"figure": "12"}, "figure: must be 11 or 19"),
+        ({}, {"figure": "12"}, "figure: must be 11 or 16 or 17 or 19"),
         (dict(global_landmarks=("gi.json", b"[[1, 2]]")), {}, "global_landmarks: found 1 landmarks, expected 68"),
         (dict(global_landmarks=("gi.txt", b"[]")), {}, "global_landmarks: a landmark file must be .json or .tem"),
         (dict(global_landmarks=("gi.tem", samples.template("003").read_bytes())), {"global_warp": "rbf"}, "global_landmarks: given"),

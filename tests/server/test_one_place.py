@@ -18,7 +18,7 @@ pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -
 #: the field added, before the last one of Options (its layout), as a developer would write it.
 ADDED = """    sparkle: float = option(
         0.0,
-        _strength_spec(
+        strength_spec(
             "how much sparkle to add to the eyes (an option of the tests)",
             Page("Sparkle", "How much the eyes sparkle.", "strengths", step=0.1),
         ),

@@ -105,3 +105,23 @@ def test_a_set_name_a_spreadsheet_would_run_is_written_inert(study_folder, tmp_p
     text = csv_text([Cell("=HYPERLINK(1)", "e+md", 1, 4.0, float("nan")), Cell("Fig. 11", "global", 1, 3.0, float("nan"))])
     rows = [line.split(",") for line in text.splitlines()[1:]]
     assert rows[0][0] == "'=HYPERLINK(1)" and rows[1][0] == "Fig. 11"
+
+
+def test_song_et_als_method_is_a_column_of_table_1(tmp_path):
+    """The paper's Table 1 rates Song et al.'s method beside global warping + ERI, elastic + ERI and E+MD: a study of
+    those methods, in the table's order, rated by one participant, gives its column in that place."""
+    from studies import make
+
+    table_1 = ("global+eri", "song", "elastic+eri", "e+md")
+    p = make(tmp_path, sets=SETS[:1], methods=table_1)
+    assert p.returncode == 0, p.stderr
+    folder = tmp_path / "study"
+    client, methods = TestClient(create_app(folder)), key(folder)
+    pid = client.post("/api/participants").json()["id"]
+    state = client.get(f"/api/participants/{pid}").json()
+    score = dict(zip(table_1, (3, 2, 4, 5)))
+    ratings = {i["id"]: score[methods[i["id"]][1]] for i in state["sets"][0]["items"]}
+    assert client.put(f"/api/participants/{pid}/sets/0", json={"ratings": ratings}).status_code == 200
+    shown = study("results", folder).stdout.splitlines()
+    assert shown[0].split() == ["set", *table_1]
+    assert shown[1].split() == ["Fig.", "A", "3.00", "(1)", "2.00", "(1)", "4.00", "(1)", "5.00", "(1)"]

@@ -1,4 +1,5 @@
-"""``exprclone compare``: every method of Fig. 11 on one triple of photos, as the sheet of Figs. 11-13; or Figs. 19-21."""
+"""``exprclone compare``: every method of Fig. 11 on one triple of photos, as the sheet of Figs. 11-13; or Figs. 16-17, or
+19-21."""
 
 from __future__ import annotations
 
@@ -10,20 +11,26 @@ from .inputs import add_inputs, load_inputs, source_photos
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    c = sub.add_parser("compare", help="the paper's Figs. 11-13 and the DB curve as one sheet, or its Figs. 19-21")
+    c = sub.add_parser("compare", help="the paper's Figs. 11-13 and the DB curve as one sheet, or its Figs. 16-17 or 19-21")
     add_inputs(c, tuple(n for n in names(Options) if n != "method"))  # every method is on the sheet
     c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
     c.add_argument(
         "--figure",
         choices=FIGURES,
         default=FIGURES[0],
-        help="11: the seven methods, Figs. 12-13's differences and the DB curve (default); 19: the elastic model on the"
+        help="11: the seven methods, Figs. 12-13's differences and the DB curve (default); 16: E+MD beside Song et al.'s"
+        " method; 17: the elastic model and E+MD on Song et al.'s global warp (vtc); 19: the elastic model on the"
         " RBF transfer's result (Figs. 19-20), or on --global-landmarks from another method (Fig. 21)",
     )
 
 
 def run(args: argparse.Namespace) -> None:
-    from ..evaluation.figures import draw, figure_request, one_face  # (numpy and the rest: loaded when the command runs, not for --help)
+    from ..evaluation.figures import (
+        draw,
+        figure_request,
+        one_face,
+        summary,
+    )  # (numpy and the rest: loaded when the command runs, not for --help)
     from ..io.images import check_output_path, save_image
 
     paths = source_photos(args)
@@ -32,6 +39,4 @@ def run(args: argparse.Namespace) -> None:
     methods, options = figure_request(args.figure, inputs.options, args.global_warp is not None)
     results = inputs.clone(methods, options)
     save_image(args.output, draw(args.figure, results, inputs.images), inputs=paths)
-    results, _ = one_face(results, inputs.images)
-    shown = f"{len(methods)} methods" if len(methods) > 2 else f"the elastic model on global warp {results['global'].options.global_stage}"
-    print(f"{args.output}: Fig. {args.figure}, {shown}, lambda_k={results['elastic'].lambda_k:g}")
+    print(f"{args.output}: {summary(args.figure, one_face(results, inputs.images)[0])}")

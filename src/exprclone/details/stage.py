@@ -111,6 +111,59 @@ class ExpressionPhoto:
         return np.linalg.norm(shift, axis=1) / align.interocular(neutral, layout)
 
 
+@dataclass(frozen=True)
+class Frame:
+    """Where the ERI of one geometry is computed (:meth:`of`): the face's box in the target photo, and its shrunk grid.
+
+    Attributes
+    ----------
+    box : tuple of slice
+        The face's box: the rows and columns of the target photo the ratio is computed over (1 outside).
+    step : int
+        The grid's blocks' side, in the photo's pixels (:func:`exprclone.details.eri.filter_step`).
+    at : ndarray of shape (P, 2)
+        The geometry's control points on the grid.
+    iod : float
+        The face's inter-ocular distance in pixels of the grid.
+    """
+
+    box: tuple[slice, slice]
+    step: int
+    at: np.ndarray
+    iod: float
+
+    @classmethod
+    def of(cls, mesh: piecewise.Mesh, dst: np.ndarray, shape: tuple[int, ...], layout: Layout) -> Frame:
+        """The frame of the control points ``dst`` of ``mesh`` in a photo of ``shape``: their box grown by
+        :data:`ERI_MARGIN`."""
+        iod = align.interocular(dst[: mesh.n_landmarks], layout)
+        rows, cols = box = align.box(dst[: mesh.n_moving], shape, ERI_MARGIN * iod, closed=False)
+        step = min(eri.filter_step(iod), rows.stop - rows.start, cols.stop - cols.start)
+        return cls(box, step, coarse.grid_points(dst - (cols.start, rows.start), step), iod / step)
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """The box's ``(height, width)`` in the photo's pixels."""
+        rows, cols = self.box
+        return rows.stop - rows.start, cols.stop - cols.start
+
+    @property
+    def grid(self) -> tuple[int, int]:
+        """The grid's ``(height, width)``."""
+        return self.size[0] // self.step, self.size[1] // self.step
+
+    def ratio(self, made: np.ndarray, shape: tuple[int, ...]) -> Ratio:
+        """The ERI on the grid (:func:`exprclone.details.eri.ratio_on_grid`'s channels) enlarged into the photo of
+        ``shape``: its ratio over the face's box, its tint over the part of it where it may change a pixel (:func:`changed`)."""
+        size, step, box = self.size, self.step, self.box
+        out = np.ones(shape[:2], np.float32)
+        raster.enlarge(np.ascontiguousarray(made[..., eri.RATIO]), size, step, out[box])
+        rows, cols = changed(made, step, size)
+        tint = enlarged_part(made, step, size, rows, cols)[..., eri.TINT]
+        box = (slice(box[0].start + rows.start, box[0].start + rows.stop), slice(box[1].start + cols.start, box[1].start + cols.stop))
+        return Ratio(out, tint.view(np.complex64).copy().view(np.float32), box)  # copied as pairs: a tenth of the time
+
+
 def ratio_image(
     mesh: piecewise.Mesh,
     dst: np.ndarray,
@@ -124,12 +177,8 @@ def ratio_image(
     """The ERI of the source's two photos in the target's final geometry, warped by ``image_warp``
     (:data:`exprclone.imaging.warpers.IMAGE_WARPERS`).
 
-    The ratio is 1 off the face, so it is computed in the face's box only, on its grid
-    shrunk by :func:`exprclone.details.eri.filter_step`: the three photos, shrunk over their faces
-    (:class:`exprclone.details.coarse.Shrunk`), are warped there (:func:`exprclone.details.eri.ratio_on_grid`); the
-    two neutral ones as ``faces`` measured them once. It counts only where the expression
-    moves the skin and all three photos show the same skin there (its ``mask`` times
-    :func:`exprclone.details.gate.moved`, the lips exempt from the colour test).
+    The ratio is 1 off the face, so it is computed in the face's box only (:class:`Frame`), on its grid shrunk by
+    :func:`exprclone.details.eri.filter_step` (:func:`ratio_grid`), and enlarged.
 
     Parameters
     ----------
@@ -152,28 +201,41 @@ def ratio_image(
     Ratio
         The ERI and its tint in the target photo's frame, and the box where they count.
     """
-    iod = align.interocular(dst[: mesh.n_landmarks], layout)
-    rows, cols = box = align.box(dst[: mesh.n_moving], shape, ERI_MARGIN * iod, closed=False)
-    size = (rows.stop - rows.start, cols.stop - cols.start)
-    step = min(eri.filter_step(iod), *size)
-    grid = (size[0] // step, size[1] // step)
-    local = dst - (cols.start, rows.start)
-    at = coarse.grid_points(local, step)
+    frame = Frame.of(mesh, dst, shape, layout)
+    return frame.ratio(ratio_grid(frame, mesh, faces, neutral_ctrl, expression, layout, image_warp), shape)
+
+
+def ratio_grid(
+    frame: Frame,
+    mesh: piecewise.Mesh,
+    faces: RatioFaces,
+    neutral_ctrl: np.ndarray,
+    expression: ExpressionPhoto,
+    layout: Layout,
+    image_warp: ImageWarper,
+) -> np.ndarray:
+    """The ERI on the grid of ``frame``, the geometry its control points give (arguments as :func:`ratio_image`'s).
+
+    The three photos, shrunk over their faces (:class:`exprclone.details.coarse.Shrunk`), are warped there
+    (:func:`exprclone.details.eri.ratio_on_grid`); the two neutral ones as ``faces`` measured them once. It counts only
+    where the expression moves the skin and all three photos show the same skin there (the face's mask times
+    :func:`exprclone.details.gate.moved`, the lips exempt from the colour test).
+
+    Returns
+    -------
+    ndarray of shape (h, w, 3), float32
+        :func:`exprclone.details.eri.ratio_on_grid`'s channels.
+    """
+    grid, at, step = frame.grid, frame.at, frame.step
     labelling = piecewise.Labelling.of(at, mesh.triangles, grid)  # one for the three warps and the motion's mask
     photos = zip((faces.neutral, expression.photo, faces.target), (neutral_ctrl, expression.ctrl, mesh.points))
     neutral, moved_photo, target_trust = (photo.warped(image_warp, ctrl, labelling, mesh) for photo, ctrl in photos)
     face = eri.ratio_mask(grid, at[: mesh.n_landmarks], at[mesh.forehead], layout, max(1, eri.MASK_SHRINK // step))
-    moved = gate.moved(labelling, expression.motion, iod / step, max(1, MOTION_SHRINK // step))
+    moved = gate.moved(labelling, expression.motion, frame.iod, max(1, MOTION_SHRINK // step))
     lip_region = gate.lips(grid, at[: mesh.n_landmarks], layout)
-    made = eri.ratio_on_grid(
-        neutral, moved_photo, target_trust, face * moved, iod / step, lip_region, faces.hue, step > 1, face * (1 - moved)
+    return eri.ratio_on_grid(
+        neutral, moved_photo, target_trust, face * moved, frame.iod, lip_region, faces.hue, step > 1, face * (1 - moved)
     )
-    out = np.ones(shape[:2], np.float32)
-    raster.enlarge(np.ascontiguousarray(made[..., eri.RATIO]), size, step, out[box])
-    rows, cols = changed(made, step, size)
-    tint = enlarged_part(made, step, size, rows, cols)[..., eri.TINT]
-    box = (slice(box[0].start + rows.start, box[0].start + rows.stop), slice(box[1].start + cols.start, box[1].start + cols.stop))
-    return Ratio(out, tint.view(np.complex64).copy().view(np.float32), box)  # copied as pairs: a tenth of the time
 
 
 def changed(made: np.ndarray, step: int, size: tuple[int, int]) -> tuple[slice, slice]:

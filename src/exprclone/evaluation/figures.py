@@ -9,7 +9,8 @@ A difference image is the absolute luminance difference of two results, normalis
 that its largest value is 255 ("normalizing the values to the range 0~255", Sec. IV).
 
 :func:`fig19` draws the paper's Figs. 19-21 instead: the elastic model on the result of
-another global warp (``exprclone compare --figure 19``).
+another global warp (``exprclone compare --figure 19``); :func:`fig16` its Figs. 16-17, E+MD beside Song et
+al.'s method (``--figure 16``), and the elastic model and E+MD on Song et al.'s global warp (``--figure 17``).
 """
 
 from __future__ import annotations
@@ -23,8 +24,8 @@ import numpy as np
 from ..errors import ExprCloneError
 from ..geometry.db_metric import DBCurve
 from ..imaging import raster
-from ..methods import FIGURES, METHODS, TABLE
-from ..options import GIVEN, Options
+from ..methods import BY_NAME, FIG11, FIGURES, TABLE
+from ..options import GIVEN, GLOBAL_WARPS, Options
 from ..pipeline.result import CloneResult
 from ..roles import SOURCE_EXPRESSION, TARGET_NEUTRAL
 
@@ -32,7 +33,19 @@ CELL = 320
 #: the methods Figs. 19-21 show: the global warp's result, and the elastic model on it (no MD: the paper's target had no texture).
 FIG19 = ("global", "elastic")
 #: how each global warp is named in Figs. 19-21's panel (b).
-GLOBAL_NAMES = {"similarity": "similarity (Liu et al.)", "rbf": "RBF (Seol and Lewis)", GIVEN: "given landmarks"}
+GLOBAL_NAMES = {
+    "similarity": "similarity (Liu et al.)",
+    "rbf": "RBF (Seol and Lewis)",
+    "vtc": "VTC (Song et al.)",
+    GIVEN: "given landmarks",
+}
+#: the methods of Figs. 16 and 17, panels (b) on, between the target's neutral face (a) and the source's expression;
+#: Fig. 17's made on Song et al.'s global warp, VTC (:data:`SONG_WARP`).
+FIG16 = {"16": ("global+eri", "song", "elastic+eri", "e+md"), "17": ("song", "elastic+eri", "e+md")}
+#: how Figs. 16-17 name each method, as the paper's captions do.
+CAPTIONS = {"global+eri": "global warping + ERI", "song": "Song et al.", "elastic+eri": "elastic + ERI", "e+md": "E+MD"}
+#: the global warp Fig. 17 shows the elastic model and E+MD on: Song et al.'s.
+SONG_WARP = "vtc"
 FIG13 = (
     ("local", "global"),
     ("elastic", "global"),
@@ -104,8 +117,8 @@ def sheet(results: dict[str, CloneResult], source_expression: np.ndarray) -> np.
     box = face_box(lm[TARGET_NEUTRAL], results["global"].image.shape)
     src_box = face_box(lm[SOURCE_EXPRESSION], source_expression.shape)
     crop = {m: r.image[box] for m, r in results.items()}
-    row1 = [cell(crop[m], f"({letters[m]}) {m}") for m in METHODS] + [cell(source_expression[src_box], "(h) source expression")]
-    row2 = [cell(difference(crop[m], crop["global"]), f"Fig. 12: ({letters[m]}) - (a)") for m in METHODS[1:]]
+    row1 = [cell(crop[m], f"({letters[m]}) {m}") for m in FIG11] + [cell(source_expression[src_box], "(h) source expression")]
+    row2 = [cell(difference(crop[m], crop["global"]), f"Fig. 12: ({letters[m]}) - (a)") for m in FIG11[1:]]
     row3 = [cell(difference(crop[a], crop[b]), f"Fig. 13: ({letters[a]}) - ({letters[b]})") for a, b in FIG13]
     blank = np.full((CELL, CELL, 3), 255, np.uint8)
     row2 += [blank, blank]
@@ -140,14 +153,50 @@ def fig19(results: dict[str, CloneResult], target_neutral: np.ndarray, source_ex
     return np.hstack(row)
 
 
+def fig16(results: dict[str, CloneResult], target_neutral: np.ndarray, source_expression: np.ndarray) -> np.ndarray:
+    """The paper's Fig. 16 or 17 as one row: (a) the target's neutral face, the methods of :data:`FIG16` from (b) on,
+    then the source's expression; then the last method's (E+MD's) difference to Song et al.'s result, and its DB curve.
+    A method on a global warp other than the paper's says so (Fig. 17's ``on VTC``).
+
+    Parameters
+    ----------
+    results : dict of str to CloneResult
+        The methods of one of :data:`FIG16`'s figures, in its order.
+    target_neutral, source_expression : ndarray of shape (H, W, 3)
+    """
+    methods = list(results)
+    first = results[methods[0]]
+    box = face_box(first.landmarks[TARGET_NEUTRAL], target_neutral.shape)
+    src_box = face_box(first.landmarks[SOURCE_EXPRESSION], source_expression.shape)
+    letters = "abcdefgh"
+    row = [cell(target_neutral[box], "(a) target, neutral")]
+    for k, (method, r) in enumerate(results.items(), 1):
+        warp = r.options.global_stage
+        on = "" if warp == GLOBAL_WARPS[0] or BY_NAME[method].warp is not None else f" on {warp.upper()}"
+        row.append(cell(r.image[box], f"({letters[k]}) {CAPTIONS[method]}{on}"))
+    row.append(cell(source_expression[src_box], f"({letters[len(methods) + 1]}) source expression"))
+    own = next(k for k, m in enumerate(methods) if BY_NAME[m].warp is not None)  # Song et al.'s, on its own warp
+    last, song = results[methods[-1]], results[methods[own]]
+    row.append(cell(difference(last.image[box], song.image[box]), f"({letters[len(methods)]}) - ({letters[own + 1]})"))
+    curve = last.db_curve
+    row.append(db_plot(curve) if curve is not None else np.full((CELL, CELL, 3), 255, np.uint8))
+    return np.hstack(row)
+
+
 def figure_request(figure: str, options: Options, global_warp_asked: bool) -> tuple[tuple[str, ...], Options]:
     """The methods and the clone options that ``figure`` (one of :data:`FIGURES`) needs: Fig. 19 shows the RBF
-    transfer unless a global warp was asked for (``global_warp_asked``) or its landmarks are given. A figure shows one
-    face: of a photo of several, the largest unless ``faces`` chose others (the first of them is shown)."""
+    transfer unless a global warp was asked for (``global_warp_asked``) or its landmarks are given; Fig. 17 shows
+    Song et al.'s global warp (:data:`SONG_WARP`), and no other (ExprCloneError). A figure shows one face: of a photo
+    of several, the largest unless ``faces`` chose others (the first of them is shown)."""
     if options.faces == "all":
         options = replace(options, faces="largest")
     if figure == FIGURES[0]:
-        return METHODS, options
+        return FIG11, options
+    if figure in FIG16:
+        if figure == "17" and (options.global_landmarks is not None or options.global_warp not in (GLOBAL_WARPS[0], SONG_WARP)):
+            subject = "global_landmarks" if options.global_landmarks is not None else "global_warp"
+            raise ExprCloneError(subject, f"Fig. 17 shows the methods on Song et al.'s global warp, {SONG_WARP}: drop {subject}")
+        return FIG16[figure], replace(options, global_warp=SONG_WARP) if figure == "17" else options
     if not global_warp_asked and options.global_landmarks is None:
         options = replace(options, global_warp="rbf")
     return FIG19, options
@@ -171,4 +220,16 @@ def draw(figure: str, results: dict[str, CloneResult], images: Sequence[np.ndarr
     """``figure`` (one of :data:`FIGURES`) of the results of :func:`figure_request`'s methods on the three photos (of
     the one face it shows, :func:`one_face`)."""
     results, images = one_face(results, images)
-    return sheet(results, images[1]) if figure == FIGURES[0] else fig19(results, images[2], images[1])
+    if figure == FIGURES[0]:
+        return sheet(results, images[1])
+    return (fig16 if figure in FIG16 else fig19)(results, images[2], images[1])
+
+
+def summary(figure: str, results: dict[str, CloneResult]) -> str:
+    """What ``figure``'s sheet shows, in a line (``exprclone compare`` prints it): its methods, or the global warp the
+    elastic model refines, and the lambda_k the DB metric chose."""
+    chosen = next((r.lambda_k for r in reversed(results.values()) if r.lambda_k is not None), None)
+    lam = "" if chosen is None else f", lambda_k={chosen:g}"
+    if figure == FIGURES[-1]:
+        return f"Fig. {figure}, the elastic model on global warp {results[FIG19[0]].options.global_stage}{lam}"
+    return f"Fig. {figure}, {len(results)} methods{lam}"

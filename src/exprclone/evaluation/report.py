@@ -172,7 +172,11 @@ def tables(rows: list[Row], pair_rows: list[Row]) -> list[str]:
         text += [strong, "", f"No target's real expression widens the mouth by {STRONG_SMILE:.0%}: no table.", ""]
     compared = contrasts(pair_rows)
     if compared:
-        text += ["## Pair by pair: the elastic model on its GI in each variant, and each variant against the default", ""]
+        text += [
+            "## Pair by pair: the elastic model on its GI, E+MD and Song et al.'s method against global+eri and each other,"
+            " in each variant; each variant against the default",
+            "",
+        ]
         text += ["All pairs, then the strong smiles." if n_strong else "All pairs.", "", contrast_table(compared), ""]
         text += [contrast_table(contrasts(pair_rows, strong_only=True)), ""] if n_strong else []
     return text
@@ -252,7 +256,7 @@ def write_report(
         text += [
             "## The greyest shadows",
             "",
-            "The results of the methods with ERI whose shadows are the least warm: target neutral, result, and the result",
+            "The results of the methods with ERI (or mesh image) whose shadows are the least warm: target neutral, result, and the result",
             f"with the darkened skin the measure counts outlined: {sheet}",
             "",
             f"![greyest shadows]({sheet})",
@@ -276,12 +280,12 @@ def _write_blendshapes(path: Path, rows: list[Row]) -> None:
 def _warmth_sheet(
     out: Path, data: Dataset, rows: list[Row], landmarks: dict[str, np.ndarray], methods: tuple[str, ...], variant: Variant, count: int = 12
 ) -> str | None:
-    """The ``count`` results of the methods with ERI in ``variant`` whose shadows are the least warm
+    """The ``count`` results of the methods with ERI (or mesh image) in ``variant`` whose shadows are the least warm
     (:func:`exprclone.evaluation.scores.warmth`), three to a row: [target neutral | result | result, the darkened skin
     the measure counts outlined], each captioned with its pair, method and warmth."""
 
     label, options = variant
-    eri = [m for m in methods if BY_NAME[m].eri]
+    eri = [m for m in methods if BY_NAME[m].ratio is not None]
     scored = sorted(
         (r for r in rows if r["method"] in {m + label for m in eri} and not r["failed"] and r.get("warmth", "") != ""),
         key=lambda r: float(r["warmth"]),

@@ -25,9 +25,10 @@ RESAMPLES, SEED = 2000, 0
 #: relative widening of the mouth (corner distance / eye-corner distance) that makes a
 #: strong smile: the top 29% of the London Set's 72 people (median 15%, quartiles 11% and 22%).
 STRONG_SMILE = 0.20
-#: methods compared with the result they refine, in each variant (:func:`contrasts`): the elastic model with the
-#: global warp it starts from (the paper's Figs. 19-21), E+MD with the global warp and ERI (its Table 1).
-REFINED = (("elastic", "global"), ("e+md", "global+eri"))
+#: methods compared pair by pair in each variant (:func:`contrasts`): the elastic model with the global warp it starts
+#: from (the paper's Figs. 19-21), E+MD with the global warp and ERI (its Table 1), and Song et al.'s method with
+#: the global warp and ERI, and E+MD with it (its Figs. 16-17).
+REFINED = (("elastic", "global"), ("e+md", "global+eri"), ("song", "global+eri"), ("e+md", "song"))
 
 
 def identity_line(rows: list[Row]) -> tuple[float, float]:
@@ -144,8 +145,8 @@ def pair_of(row: Row) -> tuple[str, str, str]:
 
 def contrasts(rows: list[Row], strong_only: bool = False) -> list[Row]:
     """Pairs of rows compared pair by pair: in each variant, the elastic model against the global warp it starts
-    from, and E+MD against the global warp with ERI (:data:`REFINED`); then each method in each variant against the
-    same method in the default setting.
+    from, E+MD against the global warp with ERI, and Song et al.'s method against both (:data:`REFINED`); then each
+    method in each variant against the same method in the default setting.
 
     Returns
     -------

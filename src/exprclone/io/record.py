@@ -33,7 +33,7 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
     -------
     dict
         ``inputs``, ``method``, ``landmarker`` (which placed the photos' landmarks, null when
-        all were given), ``options`` (``global_warp``: similarity, rbf or given;
+        all were given), ``options`` (``global_warp``: similarity, rbf, vtc or given;
         ``image_warp``, ``strength``, ``only``, ``retarget``), ``lambda_k``, ``db_curve`` (lambda_k and
         DB of each candidate), ``muscle_strengths``, ``unfolded_points``, ``warnings`` (what looked
         wrong with the inputs, :func:`exprclone.pipeline.role_check.judge_roles`), ``landmarks`` (of each stage, to 1/1000 pixel)

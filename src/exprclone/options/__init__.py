@@ -1,9 +1,9 @@
 """Every option a user can choose, declared once: each a field with its default, its check and its words.
 
 Three values hold them: :class:`Options`, a clone's (its method, lambda_k, warps, strength...:
-:mod:`.clone_options`); :class:`Driving`, how a video drives a portrait (its neutral frame, smoothing, head
-motion), and :class:`Framing`, how a driven video is framed (its size, the driving video beside it:
-:mod:`.video_options`). Pure data, like :mod:`exprclone.methods`: the command line builds its arguments from them
+:mod:`.clone_options`, the strengths' specs in :mod:`.strengths`); :class:`Driving`, how a video drives a portrait
+(its neutral frame, smoothing, head motion), and :class:`Framing`, how a driven video is framed (its size, the driving
+video beside it: :mod:`.video_options`). Pure data, like :mod:`exprclone.methods`: the command line builds its arguments from them
 without loading numpy. A value is checked when it is made (a bad value raises :class:`~exprclone.ExprCloneError`
 naming the option), so a value that exists is a valid one; what can only be checked against the photos
 (``global_landmarks`` inside the target photo) is checked by the :class:`~exprclone.Cloner`.
@@ -22,13 +22,10 @@ from .clone_options import (
     GIVEN,
     GLOBAL_WARPS,
     IMAGE_WARPS,
-    REGIONS,
     RENDER,
-    STRENGTH_RANGE,
     Options,
     check_faces,
     check_lambda,
-    check_regions,
     parse_lambda,
 )
 from .specs import (
@@ -50,6 +47,7 @@ from .specs import (
     option,
     spec,
 )
+from .strengths import REGIONS, STRENGTH_RANGE, check_regions
 from .video_options import SIZE_RANGE, Driving, Framing
 
 #: the values of options, in the order the documentation and the options' answer list them.

@@ -7,7 +7,9 @@ The options (beyond the method of Fig. 11 and its lambda_k):
   from. ``similarity`` is the paper's (Liu et al.: the source's motion rotated and
   scaled into the target by one similarity); ``rbf`` carries each landmark's motion by
   the local Jacobian of a radial-basis-function map between the two neutral faces (Seol
-  and Lewis, the paper's Figs. 19-20; :func:`exprclone.geometry.global_warp.rbf_landmarks`).
+  and Lewis, the paper's Figs. 19-20; :func:`exprclone.geometry.global_warp.rbf_landmarks`); ``vtc`` makes each
+  vertex tent of the landmark mesh change as the source's does (Song et al.'s vertex-tent-coordinate transfer, on
+  which the paper's Fig. 17 puts its elastic model; :func:`exprclone.geometry.vtc.vtc_landmarks`).
 - ``global_landmarks``: GI given from outside, the result of any other method, which the
   elastic model then refines (the paper's Fig. 21).
 - ``image_warp``: how the photo follows its landmarks: ``mesh``, the piecewise-affine
@@ -43,14 +45,15 @@ exprclone.errors.ExprCloneError: strength: must be a number from 0 to 2, got 3
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from ..errors import ExprCloneError, quoted
 from ..landmarks.backends import DEFAULT, LANDMARKERS, Landmarker
-from ..methods import METHODS, TABLE
-from .specs import Choice, Chosen, Page, Spec, given, one_of, option, parse_number, switch
+from ..methods import BY_NAME, METHODS, TABLE, Method
+from .specs import Choice, Chosen, Page, Spec, given, one_of, option, switch
+from .strengths import REGIONS, check_regions, region_spec, strength_spec
 
 if TYPE_CHECKING:
     import numpy as np
@@ -60,15 +63,11 @@ if TYPE_CHECKING:
     from ..landmarks.layout import Layout
 
 #: the global warps (``global_warp``); the first is the default, the paper's.
-GLOBAL_WARPS = ("similarity", "rbf")
+GLOBAL_WARPS = ("similarity", "rbf", "vtc")
 #: the global stage's name when GI is given (``global_landmarks``).
 GIVEN = "given"
 #: the image warps (``image_warp``); the first is the default, the paper's.
 IMAGE_WARPS = ("mesh", "tps")
-#: the regions ``only`` may name (:attr:`exprclone.landmarks.layout.Layout.regions` of the 68-point layout).
-REGIONS = ("mouth", "eyes", "brows")
-#: the strengths allowed: 0 leaves the target as it is, 1 is the whole expression, 2 twice its motion.
-STRENGTH_RANGE = (0.0, 2.0)
 #: the words ``faces`` may be besides face numbers: every face of the photo, or its largest.
 FACE_WORDS = ("all", "largest")
 
@@ -101,45 +100,6 @@ def lambdas() -> tuple[Choice, ...]:
 
     searched = tuple(Choice(f"{lam:g}", "∞" if lam == float("inf") else f"{lam:g}") for lam in LAMBDAS)
     return (Choice("auto", "auto: chosen for these faces", "The program tries each value and keeps the most natural face."), *searched)
-
-
-def _strength(value: Any, name: str) -> float:
-    low, high = STRENGTH_RANGE
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
-        raise ExprCloneError(name, f"must be a number from {low:g} to {high:g}, got {quoted(value)}")
-    return float(value)
-
-
-def _region_strength(value: Any, name: str) -> float | None:
-    return None if value is None else _strength(value, name)
-
-
-def _strength_spec(help: str, page: Page, check: Callable[[Any, str], Any] = _strength) -> Spec:
-    """The spec of a strength (``strength``, a region's, the shading's): a number within :data:`STRENGTH_RANGE`, a
-    slider of the page's strengths."""
-    schema = {"minimum": STRENGTH_RANGE[0], "maximum": STRENGTH_RANGE[1]}
-    return Spec(help, check, parse_number, float, also=(int,), metavar="S", schema=schema, page=page)
-
-
-def _region_spec(region: str) -> Spec:
-    """The spec of a region's own strength (``strength_mouth``...): None follows ``strength``."""
-    return _strength_spec(
-        f"the strength of the {region} alone (motion and shading), from 0 (the target's own {region}) to 2; by default the strength",
-        Page(region.capitalize(), f"How much the {region} change, on their own.", "strengths", step=0.1, follows="strength"),
-        _region_strength,
-    )
-
-
-def check_regions(only: Any, name: str = "only", regions: tuple[str, ...] = REGIONS) -> tuple[str, ...] | None:
-    """``only`` as a tuple of known region names without repeats (a comma-separated string is split), or None for all
-    (also when it names every region: the whole face)."""
-    if only is None:
-        return None
-    names = tuple(n.strip() for n in only.split(",")) if isinstance(only, str) else tuple(only)
-    bad = [n for n in names if n not in regions]
-    if not names or bad:
-        raise ExprCloneError(name, f"unknown region {quoted(bad[0] if bad else '')}; choose from: {', '.join(regions)}")
-    return None if set(names) == set(regions) else tuple(dict.fromkeys(names))
 
 
 def _landmarker(value: Any, name: str) -> str | Landmarker:
@@ -236,19 +196,19 @@ class Options(Chosen):
     >>> Options(method="x")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    exprclone.errors.ExprCloneError: method: unknown method 'x'; choose one of: global, local, elastic, ..., e+md
+    exprclone.errors.ExprCloneError: method: unknown method 'x'; choose one of: global, local, elastic, ..., song
     """
 
     method: str = option(
         "e+md",
         Spec(
-            "the method of the paper's Fig. 11",
+            "the method: one of the paper's Fig. 11, or song, Song et al.'s (Figs. 16-17)",
             one_of(METHODS),
             choices=METHODS,
             page=Page(
                 "Method",
-                "Which of the paper's seven ways carries the expression over; the last is the paper's own.",
-                choices=tuple(Choice(m.name, f"({m.panel}) {m.title}", m.sentence, m.panel) for m in TABLE),
+                "Which way carries the expression over: the paper's seven, (g) its own, or Song et al.'s, which it is compared with.",
+                choices=tuple(Choice(m.name, f"({m.panel}) {m.title}" if m.panel else m.title, m.sentence, m.panel or None) for m in TABLE),
             ),
         ),
     )
@@ -298,18 +258,20 @@ class Options(Chosen):
     global_warp: str = option(
         GLOBAL_WARPS[0],
         Spec(
-            "how the source's motion reaches the target (GI): similarity, the paper's, or rbf, by the local Jacobian of a"
-            " radial-basis-function map between the two neutral faces (Seol and Lewis; Figs. 19-20)",
+            "how the source's motion reaches the target (GI): similarity, the paper's; rbf, by the local Jacobian of a"
+            " radial-basis-function map between the two neutral faces (Seol and Lewis; Figs. 19-20); or vtc, each vertex"
+            " tent of the landmark mesh changed as the source's (Song et al.; Fig. 17)",
             one_of(GLOBAL_WARPS),
             choices=GLOBAL_WARPS,
             page=Page(
                 "Global warp",
                 "How the source's motion is fitted to the target's face: as one turn and scaling of the whole face,"
-                " or bent to the differences between the two faces.",
+                " bent to the differences between the two faces, or each small patch of it changed as the source's.",
                 "transfer",
                 (
                     Choice(GLOBAL_WARPS[0], "similarity (Liu et al., the paper's)", "The whole face's motion, turned and scaled as one."),
                     Choice(GLOBAL_WARPS[1], "RBF (Seol and Lewis)", "The motion bent to follow how the two faces differ."),
+                    Choice(GLOBAL_WARPS[2], "VTC (Song et al.)", "Each small patch of the face bends as the source's did."),
                 ),
                 unset=f"default: {GLOBAL_WARPS[0]} (RBF for Figs. 19-21)",
             ),
@@ -344,7 +306,7 @@ class Options(Chosen):
     )
     strength: float = option(
         1.0,
-        _strength_spec(
+        strength_spec(
             "how much of the expression to transfer: 0 leaves the target as it is, 1 all of it, up to 2",
             Page("Whole expression", "How much of the expression: 0 the target's own face, 1 all of it, 2 twice.", "strengths", step=0.1),
         ),
@@ -360,12 +322,12 @@ class Options(Chosen):
             schema={"pattern": f"^({'|'.join(REGIONS)})(,({'|'.join(REGIONS)}))*$"},
         ),
     )
-    strength_mouth: float | None = option(None, _region_spec("mouth"))
-    strength_eyes: float | None = option(None, _region_spec("eyes"))
-    strength_brows: float | None = option(None, _region_spec("brows"))
+    strength_mouth: float | None = option(None, region_spec("mouth"))
+    strength_eyes: float | None = option(None, region_spec("eyes"))
+    strength_brows: float | None = option(None, region_spec("brows"))
     strength_shading: float = option(
         1.0,
-        _strength_spec(
+        strength_spec(
             "how much of the expression's shading (the ERI's folds and shadows, methods with ERI) goes with its motion: 0"
             " the motion alone, 1 as much as the motion, up to 2",
             Page("Shading (folds and shadows)", "How much of the expression's folds and shadows come with it.", "strengths", step=0.1),
@@ -419,11 +381,29 @@ class Options(Chosen):
         super().__post_init__()
         if self.global_landmarks is not None and self.global_warp != GLOBAL_WARPS[0]:
             raise ExprCloneError("global_landmarks", f"given landmarks replace the global warp; drop global_warp={self.global_warp!r}")
+        own = BY_NAME[self.method].warp  # a method with a global warp of its own (Song et al.'s) takes no other GI
+        said = f"method {self.method} warps by its own global warp, {own}"
+        if own is not None and self.global_landmarks is not None:
+            raise ExprCloneError("global_landmarks", f"{said}; drop the given landmarks")
+        if own is not None and self.global_warp not in (GLOBAL_WARPS[0], own):
+            raise ExprCloneError("global_warp", f"{said}; drop global_warp={self.global_warp!r}")
 
     @property
     def global_stage(self) -> str:
         """The global warp that gives GI: :data:`GIVEN` when its landmarks are given, else ``global_warp``."""
         return GIVEN if self.global_landmarks is not None else self.global_warp
+
+    def ran_by(self, method: Method) -> Options:
+        """These options as ``method`` ran with them (a result's): its name, and its own global warp, if it has one
+        (:attr:`exprclone.methods.Method.warp`), in place of the global stage's; the same value when nothing changes.
+
+        >>> Options(global_warp="rbf").ran_by(BY_NAME["song"])
+        Options(method='song', global_warp='vtc')
+        """
+        changes: dict[str, Any] = {} if self.method == method.name else {"method": method.name}
+        if method.warp is not None and self.global_stage != method.warp:
+            changes.update(global_warp=method.warp, global_landmarks=None)
+        return dataclasses.replace(self, **changes) if changes else self
 
     @property
     def region_strengths(self) -> dict[str, float]:

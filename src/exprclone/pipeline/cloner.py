@@ -138,15 +138,15 @@ class Cloner:
         chosen = lookup(methods or (self.options.method,))
         faces, options = self.faces, self.options
         expression = stages.expression(faces, source_expression, source_expression_points, options, crop)
-        if not any(m.eri for m in chosen):
+        if not any(m.ratio for m in chosen):
             return Prepared(
-                faces, options, self.transfer, chosen, expression, stages.shapes(faces, options, expression, _shapes(chosen)), None
+                faces, options, self.transfer, chosen, expression, stages.method_shapes(faces, options, expression, chosen), None
             )
         # the ERI's photos and the mouth's measures (the faces' own, made once) beside the shape stages: on another core
         with concurrent.futures.ThreadPoolExecutor(1) as beside:
             photo = beside.submit(faces.expression_photo, expression.image, expression.points, expression.still)
             measured = beside.submit(lambda: faces.mouth_reference) if options.mouth else None
-            shapes = stages.shapes(faces, options, expression, _shapes(chosen))
+            shapes = stages.method_shapes(faces, options, expression, chosen)
             if measured is not None:
                 measured.result()
             return Prepared(faces, options, self.transfer, chosen, expression, shapes, photo.result())
@@ -179,11 +179,6 @@ class Cloner:
         return self.prepare(source_expression, source_expression_points, methods, crop=crop).render()
 
 
-def _shapes(methods: tuple[Method, ...]) -> set[str]:
-    """The shape stages ``methods`` end with."""
-    return {m.shape for m in methods}
-
-
 def _same_strengths(a: Options, b: Options) -> bool:
     """Whether two options transfer the same share of the expression everywhere (one :class:`Transfer` serves both)."""
     return (a.region_strengths, a.strength_shading) == (b.region_strengths, b.strength_shading)
@@ -206,9 +201,10 @@ class Prepared:
     expression : SourceExpression
         The source expression, ready for the shape stages.
     shapes : dict of str to Shape
-        The shape stages its methods need (GI, LI and, for the elastic model, lambda_k and the DB curve).
+        The shape stages its methods need (GI, LI and, for the elastic model, lambda_k and the DB curve), each by
+        :meth:`exprclone.methods.Method.key` (a method's own global warp's as ``stage@warp``).
     photo : ExpressionPhoto or None
-        The expression photo as the ERI takes it; None when no method has the ERI.
+        The expression photo as the ERI (or the mesh image) takes it; None when no method has either.
     landmarker : str or None
         Which landmarker placed the photos' landmarks, for the results (the door sets it: :mod:`exprclone.pipeline.request`).
     warnings : tuple of str
@@ -234,7 +230,7 @@ class Prepared:
     @property
     def lambda_k(self) -> float | None:
         """The elasticity ratio of its first method's shape (None for a method without the elastic model)."""
-        return self.shapes[self.methods[0].shape].lambda_k
+        return self.shapes[self.methods[0].stage].lambda_k
 
     def render(self, **changes: Any) -> dict[str, CloneResult]:
         """Each method's image, with the options it was prepared with or others of their cheap part (:data:`RENDER`: the

@@ -2,7 +2,7 @@
 
 Everything here depends on the two neutral faces alone, not on a source expression nor on
 a clone's options: the target's mesh and its spring neighbours, the source's neutral photo
-placed on that mesh, and, each made on first use, what the RBF transfer, the DB metric, the
+placed on that mesh, and, each made on first use, what the RBF and VTC transfers, the DB metric, the
 ERI and the mouth interior take of the two photos. A clone of a photo, each frame of a
 video and each render of a slider are then the stages of Fig. 5 that depend on the
 expression (:mod:`exprclone.pipeline.cloner`).
@@ -18,7 +18,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..details.stage import ExpressionPhoto, RatioFaces
-from ..geometry import db_metric, global_warp
+from ..geometry import db_metric, global_warp, vtc
 from ..imaging import piecewise
 from ..landmarks import align, lips
 from ..landmarks.layout import Layout
@@ -68,6 +68,12 @@ class Faces:
         """The RBF map's Jacobian at each landmark, from the source's neutral face to the target's
         (:func:`exprclone.geometry.global_warp.rbf_jacobians`)."""
         return global_warp.rbf_jacobians(self.s_neu, self.t_neu, self.layout)
+
+    @functools.cached_property
+    def tents(self) -> vtc.Tents:
+        """The target's vertex tents over the mesh's landmarks, their least-squares system factorised once, for the VTC
+        transfer (:class:`exprclone.geometry.vtc.Tents`)."""
+        return vtc.Tents.of(self.t_neu, self.neighbours)
 
     @functools.cached_property
     def db_target(self) -> tuple[np.ndarray, float]:

@@ -1,16 +1,16 @@
 """The second half of Fig. 5, what each image of a prepared clone costs: FI, the ERI in its geometry, the MD model and the
 mouth interior, as stages over the data a :class:`~exprclone.pipeline.cloner.Prepared` holds.
 
-:func:`render` runs them for each method asked: FI for each shape (:func:`fi`), the ERI for each shape whose methods
-have one (:func:`ratio`), then each method's result (:func:`result`) with its detail stages (:func:`details`). What
-each method runs is read from its row of :data:`exprclone.methods.TABLE`; how much of the expression, and where, from
-the :class:`~exprclone.geometry.weights.Transfer` of the options' strengths (:func:`transfer`).
+:func:`render` runs them for each method asked: FI for each shape (:func:`fi`), the ERI (or Song et al.'s mesh
+image) for each shape whose methods have one (:func:`ratio`), then each method's result (:func:`result`) with its
+detail stages (:func:`details`). What each method runs is read from its row of :data:`exprclone.methods.TABLE`; how
+much of the expression, and where, from the :class:`~exprclone.geometry.weights.Transfer` of the options' strengths
+(:func:`transfer`).
 """
 
 from __future__ import annotations
 
 import concurrent.futures
-import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -18,7 +18,8 @@ from typing import Any
 import numpy as np
 
 from ..details import eri, muscle
-from ..details.stage import ExpressionPhoto, Ratio, ratio_image
+from ..details.mesh_image import RATIOS
+from ..details.stage import ExpressionPhoto, Ratio
 from ..geometry.weights import Transfer
 from ..imaging import piecewise
 from ..imaging.warpers import IMAGE_WARPERS
@@ -65,12 +66,12 @@ def fi(faces: Faces, control: np.ndarray, unfolded: int, image_warp: str) -> Ren
     return Rendered(IMAGE_WARPERS[image_warp](faces.target_image, faces.mesh.points, control, faces.mesh), control, unfolded)
 
 
-def ratio(faces: Faces, control: np.ndarray, photo: ExpressionPhoto, transfer: Transfer, image_warp: str) -> Ratio:
-    """The ERI and its tint: both source photos warped to the geometry of FI (its ``control`` points, Liu et al.), scaled
-    by ``transfer``."""
+def ratio(faces: Faces, control: np.ndarray, photo: ExpressionPhoto, transfer: Transfer, image_warp: str, kind: str = "eri") -> Ratio:
+    """The ERI and its tint: both source photos warped to the geometry of FI (its ``control`` points, Liu et al.), or the
+    mesh image made of them (Song et al.: ``kind``, :data:`exprclone.details.mesh_image.RATIOS`), scaled by ``transfer``."""
     warp = IMAGE_WARPERS[image_warp]
     shape = faces.target_image.shape
-    made = ratio_image(faces.mesh, control, shape, faces.ratio_faces, faces.source_neutral_ctrl, photo, faces.layout, warp)
+    made = RATIOS[kind](faces.mesh, control, shape, faces.ratio_faces, faces.source_neutral_ctrl, photo, faces.layout, warp)
     return Ratio(transfer.ratio(made.eri, made.box), transfer.tint(made.tint, made.box), made.box)
 
 
@@ -126,12 +127,12 @@ def result(
     """One method's result: FI, then its detail stages (:func:`details`) if it has any (then ``ratio`` is its ERI)."""
     final = rendered.control[: faces.mesh.n_landmarks]
     landmarks = {SOURCE_NEUTRAL: faces.s_neu, SOURCE_EXPRESSION: expression.points, TARGET_NEUTRAL: faces.t_neu}
-    landmarks.update({name: shapes[name].points for name in ("global", "local", method.shape)}, final=final)
+    landmarks.update({name: shapes[method.key(name)].points for name in ("global", "local", method.shape)}, final=final)
     if ratio is None:
         image, found = rendered.image, dict[str, Any]()
     else:
         image, found = details(faces, method, expression, rendered, ratio, options.mouth, transfer)
-    shape = shapes[method.shape]
+    shape = shapes[method.stage]
     return CloneResult(
         image,
         method.name,
@@ -139,7 +140,7 @@ def result(
         shape.lambda_k,
         shape.db_curve,
         unfolded_points=rendered.unfolded,
-        options=options if options.method == method.name else dataclasses.replace(options, method=method.name),
+        options=options.ran_by(method),
         **found,
     )
 
@@ -153,17 +154,21 @@ def render(
     options: Options,
     transfer: Transfer,
 ) -> dict[str, CloneResult]:
-    """Each method's image: FI for each shape, the ERI in its geometry (``photo``: the expression photo as the ERI takes
-    it, None when no method has the ERI; made on another core while FI is warped: it needs FI's geometry alone), then
+    """Each method's image: FI for each shape (by :attr:`exprclone.methods.Method.stage`), the ratio each method's
+    details apply in its geometry (:attr:`exprclone.methods.Method.ratio`; ``photo``: the expression photo as the ratios
+    take it, None when no method has one; made on another core while FI is warped: it needs FI's geometry alone), then
     each method's :func:`result`."""
-    kinds = {m.shape for m in methods}
-    shaded = {m.shape for m in methods if m.eri}
+    kinds = {m.stage for m in methods}
+    shaded = {(m.stage, m.ratio) for m in methods if m.ratio is not None}
     placed = {kind: geometry(faces, shapes[kind].points, transfer) for kind in kinds}
     with concurrent.futures.ThreadPoolExecutor(1) as beside:
-        made = {} if photo is None else {k: beside.submit(ratio, faces, placed[k][0], photo, transfer, options.image_warp) for k in shaded}
+        made = (
+            {}
+            if photo is None
+            else {(k, r): beside.submit(ratio, faces, placed[k][0], photo, transfer, options.image_warp, r) for k, r in shaded}
+        )
         rendered = {kind: fi(faces, *placed[kind], options.image_warp) for kind in kinds}
-        ratios = {kind: future.result() for kind, future in made.items()}
+        ratios: dict[tuple[str, str | None], Ratio] = {key: future.result() for key, future in made.items()}
     return {
-        m.name: result(faces, m, expression, shapes, rendered[m.shape], ratios.get(m.shape) if m.eri else None, options, transfer)
-        for m in methods
+        m.name: result(faces, m, expression, shapes, rendered[m.stage], ratios.get((m.stage, m.ratio)), options, transfer) for m in methods
     }

@@ -4,22 +4,24 @@ A source expression is first made ready for them (:func:`expression`): with ``re
 motion cleaned and the organs local re-shaping aims at made the target's. Each shape stage
 (:data:`SHAPE_STAGES`) then computes its landmarks from the ones before it (:func:`shapes`): the
 global stage by the global warp the options name (:data:`GLOBAL_WARPERS`, keyed by
-:attr:`exprclone.options.Options.global_warp`) unless they give GI; the elastic stage with
-lambda_k given or chosen by the DB metric. What a user may choose is :mod:`exprclone.options`'.
+:attr:`exprclone.options.Options.global_warp`) unless they give GI, or by a method's own (Song et al.'s
+VTC: :func:`method_shapes`); the elastic stage with lambda_k given or chosen by the DB metric. What a user may
+choose is :mod:`exprclone.options`'.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import db_metric, eigenface, elastic, global_warp, local_warp
+from ..geometry import db_metric, eigenface, elastic, global_warp, local_warp, vtc
 from ..geometry.eigenface import default_eigenfaces
 from ..geometry.expression_shape import default_model
 from ..landmarks import align, lips
-from ..methods import SHAPES
+from ..methods import SHAPES, Method
 from ..options import Options
 from .faces import Faces
 
@@ -84,8 +86,17 @@ def rbf_warp(faces: Faces, expression: SourceExpression) -> np.ndarray:
     return global_warp.rbf_landmarks(faces.s_neu, expression.moving, faces.t_neu, faces.layout, faces.rbf_jacobians)
 
 
+def vtc_warp(faces: Faces, expression: SourceExpression) -> np.ndarray:
+    """GI of Song et al.: each vertex tent's change made the target's (:func:`exprclone.geometry.vtc.vtc_landmarks`)."""
+    return vtc.vtc_landmarks(faces.s_neu, expression.moving, faces.t_neu, faces.layout, faces.tents)
+
+
 #: the global warps by name (:data:`exprclone.options.GLOBAL_WARPS`), each ``(faces, expression) -> GI landmarks``.
-GLOBAL_WARPERS: dict[str, Callable[[Faces, SourceExpression], np.ndarray]] = {"similarity": similarity_warp, "rbf": rbf_warp}
+GLOBAL_WARPERS: dict[str, Callable[[Faces, SourceExpression], np.ndarray]] = {
+    "similarity": similarity_warp,
+    "rbf": rbf_warp,
+    "vtc": vtc_warp,
+}
 
 
 def global_stage(faces: Faces, options: Options, expression: SourceExpression, shapes: dict[str, Shape]) -> Shape:
@@ -156,4 +167,17 @@ def shapes(faces: Faces, options: Options, expression: SourceExpression, wanted:
     for name in SHAPES:
         if name in wanted | {"global", "local"}:
             done[name] = SHAPE_STAGES[name](faces, options, expression, done)
+    return done
+
+
+def method_shapes(faces: Faces, options: Options, expression: SourceExpression, methods: tuple[Method, ...]) -> dict[str, Shape]:
+    """The shape stages ``methods`` need (:func:`shapes`), each kept by :meth:`exprclone.methods.Method.key`: on the
+    options' global warp, and on each method's own (:attr:`~exprclone.methods.Method.warp`, which replaces the options'
+    global stage)."""
+    done: dict[str, Shape] = {}
+    for warp in dict.fromkeys(m.warp for m in methods):
+        own = [m for m in methods if m.warp == warp]
+        chosen = options if warp is None else dataclasses.replace(options, global_warp=warp, global_landmarks=None)
+        made = shapes(faces, chosen, expression, {m.shape for m in own})
+        done.update({own[0].key(name): shape for name, shape in made.items()})
     return done

@@ -71,15 +71,16 @@ async def compare(
     figure: Annotated[
         str,
         Form(
-            description="11: Figs. 11-13 and the DB curve; 19: the elastic model on the RBF result (Figs. 19-21)",
+            description="11: Figs. 11-13 and the DB curve; 16: E+MD beside Song et al.'s method; 17: the elastic model and E+MD on"
+            " Song et al.'s global warp; 19: the elastic model on the RBF result (Figs. 19-21)",
             json_schema_extra={"enum": list(FIGURES)},
         ),
     ] = FIGURES[0],
     format: Annotated[str, Query(pattern=f"^({'|'.join(SHEETS)})$", description="png (default), jpeg or webp")] = "png",
 ) -> Response:
     """Every method of Fig. 11, the difference images of Figs. 12-13 and the DB curve, as one sheet (PNG, JPEG or WebP:
-    ``?format=``); or Figs. 19-21 (``figure=19``: the elastic model on the RBF transfer's result, or on
-    ``global_landmarks``)."""
+    ``?format=``); or Figs. 16-17 (``figure=16``, ``17``: E+MD beside Song et al.'s method), or Figs. 19-21 (``figure=19``:
+    the elastic model on the RBF transfer's result, or on ``global_landmarks``)."""
     request = await clone_request(server, uploads, asked, figure)
     extension, media_type = SHEETS[format]
     sheet = await server.run(work.compare, request, extension)
