@@ -22,6 +22,12 @@ prototypes after it (``smile-composite``), to be scored beside the others.
 ``smile-001``, ``smile-003``, ``smile-126`` are the sample people's own smiles (the photos shipped
 in :mod:`exprclone.data`, their landmarks detected); they are written without ``--folds``.
 
+``surprise``, ``sad`` and ``angry`` (:data:`EDITED`) are made by the expression editor from its controls
+(:mod:`exprclone.expressions.editor`) on the gentle prototype's neutral composite, which is their neutral photo too;
+they are written without ``--folds``, after the prototypes (from the ones written), or alone with ``--edited``:
+
+    python tools/build_expressions.py --edited
+
 With ``--folds K`` the people are dealt into K folds (seeded) and each prototype is written K
 times, ``OUT/fold-k/NAME.json`` made without fold k's people: ``exprclone evaluate --expression
 OUT/fold-1/smile.json,...,OUT/fold-K/smile.json`` scores each person with the one made without them.
@@ -38,7 +44,8 @@ from exprclone.data import sets as datasets
 from exprclone.evaluation.london import Dataset
 from exprclone.evaluation.scores import TEETH_SHOWN, teeth
 from exprclone.expressions import composite
-from exprclone.expressions.files import Expression, write
+from exprclone.expressions.editor import Editor, describe, request
+from exprclone.expressions.files import Expression, read, write
 from exprclone.io.images import load_image
 from exprclone.landmarks import align
 from exprclone.landmarks.backends import default_detector
@@ -49,6 +56,17 @@ ROOT = Path(__file__).resolve().parents[1]
 CREDIT = "Face Research Lab London Set (DeBruine and Jones 2017, CC BY 4.0)"
 #: each prototype's name, what it is, and whose photos it averages: those whose smile shows teeth, or everyone.
 PROTOTYPES = {"smile": ("an open prototype smile", True), "smile-gentle": ("a gentle prototype smile", False)}
+#: the expressions the editor makes, each of its controls' values and what it is.
+EDITED = {
+    "surprise": ({"brows_up": 1.0, "mouth_open": 0.7}, "surprise: the brows raised, the jaw dropped"),
+    "sad": (
+        {"frown": 0.7, "brows_up": 0.35, "eyes_closed": 0.15},
+        "sadness: the mouth corners down, the brows raised a little, the lids lowered",
+    ),
+    "angry": ({"brows_down": 1.0, "frown": 0.3}, "anger: the brows drawn down and together, the mouth corners down a little"),
+}
+#: the built-in expression whose neutral photo the editor's expressions are made on (and share).
+EDITED_ON = "smile-gentle"
 
 
 def sharpness(face: composite.Face) -> tuple[float, float]:
@@ -92,6 +110,18 @@ def sample_smile(face_id: str) -> tuple[Expression, dict[str, str]]:
     return Expression(f"smile-{face_id}", f"person {face_id}'s own smile; {CREDIT}", (face_id,), *faces), paths
 
 
+def edited(folder: Path) -> None:
+    """Write the editor's expressions (:data:`EDITED`) in ``folder``, made on :data:`EDITED_ON`'s neutral photo there."""
+    base = read(folder / f"{EDITED_ON}.json")
+    editor = Editor.of(request(base.neutral.image, base.neutral.points))
+    for name, (values, what) in EDITED.items():
+        result = editor.render(values)
+        face = composite.Face(result.image, result.landmarks["final"])
+        said = f"{what}: made by the expression editor ({describe(values)}) on the {EDITED_ON} prototype's neutral composite; {CREDIT}"
+        neutral = os.path.relpath(base.files[0], folder)
+        print(write(Expression(name, said, base.people, base.neutral, face), folder, {"neutral": neutral}))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     datasets.add_argument(parser, "london", holds="the London Set folder")
@@ -99,7 +129,11 @@ def main() -> None:
     parser.add_argument("--folds", type=int, default=0, help="K >= 2: each prototype K times, each made without one fold of people")
     parser.add_argument("--seed", type=int, default=0, help="how the people are dealt into folds")
     parser.add_argument("--interior", choices=("auto", "composite", "donor"), default="auto", help="the mouth interior (auto: measured)")
+    parser.add_argument("--edited", action="store_true", help="write the editor's expressions alone, from the prototypes in --out")
     args = parser.parse_args()
+    if args.edited:
+        edited(Path(args.out))
+        return
     if args.folds == 1 or args.folds < 0:
         parser.error("--folds: 0 (the shipped expressions) or at least 2")
     data = Dataset.open(args.data)
@@ -120,6 +154,8 @@ def main() -> None:
     for face_id in samples.PEOPLE if args.folds == 0 else ():
         expression, photos = sample_smile(face_id)
         print(write(expression, out, photos))
+    if args.folds == 0:
+        edited(Path(args.out))
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ from .methods import METHODS
 from .options import Options
 
 if TYPE_CHECKING:  # what type checkers see; at run time the pipeline is imported on first use (__getattr__)
+    from .expressions.editor import edit
     from .pipeline.clone import clone, clone_methods, prepare
     from .pipeline.cloner import Cloner, Prepared
     from .pipeline.result import CloneResult, FaceResult
@@ -32,6 +33,7 @@ __all__ = [
     "Prepared",
     "clone",
     "clone_methods",
+    "edit",
     "prepare",
 ]
 __version__ = "0.1.0"
@@ -46,4 +48,8 @@ def __getattr__(name: str) -> object:
         from .pipeline import clone
 
         return getattr(clone, name)
+    if name == "edit":  # the expression editor (exprclone.expressions.editor)
+        from .expressions.editor import edit
+
+        return edit
     raise AttributeError(f"module 'exprclone' has no attribute {name!r}")

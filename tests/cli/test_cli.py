@@ -335,7 +335,7 @@ def test_clone_one_photo_with_a_built_in_expression(london, tmp_path):
         ([SN, TN, "--expression", "smile"], "--expression: give the target's photo alone"),
         ([TN], "source_neutral: missing: give the source's neutral and expression photos"),
         ([SN, TN], "source_expression: missing"),
-        ([TN, "--expression", "grin"], "--expression: unknown expression 'grin'; the built-in expressions are: smile, smile-001"),
+        ([TN, "--expression", "grin"], "--expression: unknown expression 'grin'; the built-in expressions are: angry, sad, smile, smile-001"),
         ([TN, "--expression", "smile", "--source-neutral-landmarks", "x.json"], "--source-neutral-landmarks: not with --expression"),
     ],
 )

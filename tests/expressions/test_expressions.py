@@ -14,12 +14,32 @@ from exprclone.evaluation.judge import SMILING, SmileJudge
 from exprclone.evaluation.scores import TEETH_SHOWN, teeth
 from exprclone.expressions.files import write
 from exprclone.landmarks import align
+from exprclone.landmarks.blendshapes import Blendshapes, indices
 from exprclone.landmarks.layout import DLIB68
 from exprclone.mouth.camera import blur_sigma
 
 
-def test_the_names_hold_the_prototype_and_the_sample_smiles():
-    assert expressions.names() == ("smile", "smile-001", "smile-003", "smile-126", "smile-gentle")
+def test_the_names_hold_the_prototypes_the_sample_smiles_and_the_edited_expressions():
+    assert expressions.names() == ("angry", "sad", "smile", "smile-001", "smile-003", "smile-126", "smile-gentle", "surprise")
+
+
+@pytest.mark.parametrize(
+    "name, scores",
+    [
+        ("surprise", ("browInnerUp", "jawOpen")),
+        ("sad", ("mouthFrownLeft", "mouthFrownRight")),
+        ("angry", ("browDownLeft", "browDownRight")),
+    ],
+)
+def test_the_edited_expressions_show_their_motions_on_the_gentle_prototypes_neutral_face(name, scores):
+    """Made by the expression editor on the gentle prototype's neutral composite (its photo shared): the blendshape model
+    reads each one's motions (the raised brows and dropped jaw of surprise, the corners down of sadness, the brows
+    drawn down of anger) well above the neutral face's."""
+    e, gentle = expressions.load(name), expressions.load("smile-gentle")
+    assert e.files[0] == gentle.files[0] and np.array_equal(e.neutral.points, gentle.neutral.points)
+    judge = Blendshapes()
+    rise = judge.scores(e.expression.image)[indices(scores)] - judge.scores(e.neutral.image)[indices(scores)]
+    assert np.all(rise > 0.1), dict(zip(scores, rise))
 
 
 @pytest.mark.parametrize("name", expressions.names())
@@ -38,7 +58,9 @@ def test_the_sample_smiles_are_the_shipped_photos():
 
 
 def test_an_unknown_name_lists_the_names():
-    with pytest.raises(ExprCloneError, match=r"^expression: unknown expression 'grin'; the built-in expressions are: smile, smile-001"):
+    with pytest.raises(
+        ExprCloneError, match=r"^expression: unknown expression 'grin'; the built-in expressions are: angry, sad, smile, smile-001"
+    ):
         expressions.load("grin")
 
 

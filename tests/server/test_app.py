@@ -455,7 +455,7 @@ def test_clone_one_photo_with_a_built_in_expression_answers_the_python_apis_imag
 @pytest.mark.parametrize(
     "sent, form, message",
     [
-        (("target_neutral",), {"expression": "grin"}, "expression: unknown expression 'grin'; the built-in expressions are: smile"),
+        (("target_neutral",), {"expression": "grin"}, "expression: unknown expression 'grin'; the built-in expressions are: angry, sad, smile"),
         (PHOTOS, {"expression": "smile"}, "source_neutral: not with an expression"),
         (("source_expression", "target_neutral"), {"expression": "smile"}, "source_expression: not with an expression"),
         (("target_neutral",), {}, "source_neutral: missing"),

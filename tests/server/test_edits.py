@@ -1,13 +1,10 @@
 """Edits: a clone prepared once on a real server and rendered again with other strengths (the sliders' API)."""
 
-import io
-
 import cv2
-import httpx
 import numpy as np
 import pytest
-from PIL import Image
-from serving import Server
+import serving
+from serving import pixels
 
 import exprclone
 from exprclone import data as samples
@@ -30,17 +27,10 @@ def files() -> dict:
     return {field: (path.name, path.read_bytes()) for field, path in PHOTOS.items()}
 
 
-def pixels(answer: httpx.Response) -> np.ndarray:
-    assert answer.status_code == 200, answer.text
-    return np.asarray(Image.open(io.BytesIO(answer.content)).convert("RGB"))
-
-
 @pytest.fixture(scope="module")
 def client():
-    running = Server("--workers", "1", "--max-edits", "2")
-    with httpx.Client(base_url=running.url, timeout=120) as c:
+    with serving.client("--workers", "1", "--max-edits", "2") as c:
         yield c
-    running.stop()
 
 
 @pytest.fixture(scope="module")

@@ -18,7 +18,7 @@ from typing import Any, NoReturn, TextIO
 
 from .. import __version__
 from ..errors import ExprCloneError
-from . import batch, clone, compare, demo, evaluate, expressions, faces, serve, study, video
+from . import batch, clone, compare, demo, edit, evaluate, expressions, faces, serve, study, video
 from .inputs import Interrupted
 
 EXIT_USAGE = 2
@@ -27,6 +27,7 @@ EXIT_INTERRUPTED = 130
 #: each command's module: ``add_parser(subparsers)`` and ``run(args)``.
 COMMANDS = {
     "clone": clone,
+    "edit": edit,
     "faces": faces,
     "compare": compare,
     "video": video,

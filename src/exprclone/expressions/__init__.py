@@ -8,13 +8,15 @@ such a pair, shipped with its landmarks (:class:`~exprclone.expressions.files.Ex
   Set's people whose smile shows teeth, with one real smile's teeth: an open smile;
 - ``smile-gentle``: the same of every London Set person: the average smile, lips parted a little;
 - ``smile-001``, ``smile-003``, ``smile-126``: the smiles of the sample people
-  (:mod:`exprclone.data`).
+  (:mod:`exprclone.data`);
+- ``surprise``, ``sad``, ``angry``: made by the expression editor (:mod:`exprclone.expressions.editor`) from its
+  controls on ``smile-gentle``'s neutral composite, whose photo they share.
 
 ``tools/build_expressions.py`` makes them from the London Set; their credits are in
 ``exprclone/data/CREDITS.md``.
 
 >>> names()
-('smile', 'smile-001', 'smile-003', 'smile-126', 'smile-gentle')
+('angry', 'sad', 'smile', 'smile-001', 'smile-003', 'smile-126', 'smile-gentle', 'surprise')
 >>> smile = load("smile")
 >>> smile.expression.points.shape
 (68, 2)

@@ -18,6 +18,7 @@ the server's answer (``GET /api/options``). A new option is one field, and its u
 """
 
 from .clone_options import (
+    EDIT,
     FACE_WORDS,
     GIVEN,
     GLOBAL_WARPS,
@@ -54,6 +55,7 @@ from .video_options import SIZE_RANGE, Driving, Framing
 VALUES = (Options, Driving, Framing)
 
 __all__ = [
+    "EDIT",
     "FACE_WORDS",
     "GIVEN",
     "GLOBAL_WARPS",

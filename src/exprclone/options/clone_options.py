@@ -428,3 +428,5 @@ class Options(Chosen):
 
 #: the options a prepared clone renders again with (:meth:`exprclone.pipeline.cloner.Prepared.render`): the cheap part.
 RENDER = ("mouth", "strength", "only", "strength_mouth", "strength_eyes", "strength_brows", "strength_shading")
+#: the options an expression edit takes from a user (:mod:`exprclone.expressions.editor`: its method, lambda_k and GI are its own).
+EDIT = ("landmarker", "image_warp", "mouth", "strength_shading")

@@ -101,7 +101,7 @@ class Cloner:
             A bad option, or another ``layout`` (the faces were prepared for theirs).
         """
         options = check_for_target(Options.of(options or self.options, changes), self.faces.target_image.shape)
-        if options.landmarks_layout is not self.faces.layout:
+        if options.landmarks_layout != self.faces.layout:  # (equal, not the same object: faces made in another process)
             raise ExprCloneError("layout", "the faces were prepared with another layout: make a new Cloner")
         other = object.__new__(Cloner)
         other.options, other.faces = options, faces or self.faces

@@ -61,8 +61,9 @@ class FacesFound(BaseModel):
     faces: list[FaceFound]
 
 
-class EditMade(BaseModel):
-    """A prepared clone (``POST /api/edits``): its id, where to render it, its sizes, lambda_k and the photos' warnings."""
+class EditorMade(BaseModel):
+    """A photo prepared for the expression editor (``POST /api/editor``): its id, where to render it, its sizes, and
+    how long it is kept without a render."""
 
     id: str
     render: str
@@ -70,8 +71,13 @@ class EditMade(BaseModel):
     height: int
     preview_width: int
     preview_height: int
-    lambda_k: float | str | None
     expires_after: float
+
+
+class EditMade(EditorMade):
+    """A prepared clone (``POST /api/edits``): its id, where to render it, its sizes, lambda_k and the photos' warnings."""
+
+    lambda_k: float | str | None
     warnings: list[str]
 
 

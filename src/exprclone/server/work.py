@@ -30,6 +30,7 @@ from ..drive import Recording
 from ..drive.framing import resize_portrait, side_by_side
 from ..errors import naming
 from ..evaluation.figures import draw, figure_request
+from ..expressions.editor import Editor
 from ..geometry.eigenface import default_eigenfaces
 from ..io import video as video_io
 from ..io.images import atomic_write, encode_image
@@ -192,6 +193,20 @@ def prepare_edit(request: CloneRequest, preview: int) -> tuple[Prepared | Group,
     smaller = door.photo(image, points, TARGET_NEUTRAL, options.landmarks_layout)
     shown = door.prepare(replace(asked, target=smaller, options=small, check_roles=False))  # (the full one's roles)
     return full, replace(shown, warnings=full.warnings), inputs_of(request), placed
+
+
+def prepare_editor(request: CloneRequest, preview: int) -> tuple[Editor, Editor]:
+    """``POST /api/editor``: the photo's expression editor (:class:`exprclone.expressions.editor.Editor`, the request's
+    source the built-in expression it names), at the photo's size and at ``preview`` pixels (its longest side, with
+    the first's landmarks scaled), so that both show the same edit."""
+    asked = gather(request.photos, request.landmarks, request.options, expression=request.expression, max_pixels=request.max_pixels)
+    full = Editor.of(asked)
+    image = asked.target.image
+    if preview >= max(image.shape[:2]):
+        return full, full
+    small, points = resize_portrait(image, full.neutral, preview)
+    smaller = door.photo(small, points, TARGET_NEUTRAL, asked.options.landmarks_layout)
+    return full, Editor.of(replace(asked, target=smaller))
 
 
 def compare(request: CloneRequest, extension: str = ".png") -> bytes:

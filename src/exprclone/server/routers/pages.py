@@ -1,5 +1,5 @@
-"""The pages: the clone page (``/``) and the live page (``/live``), files of the package's ``static`` folder, which the
-application also serves at ``/static`` (their scripts and style)."""
+"""The pages: the clone page (``/``), the live page (``/live``) and the expression editor's (``/editor``), files of the
+package's ``static`` folder, which the application also serves at ``/static`` (their scripts and style)."""
 
 from __future__ import annotations
 
@@ -23,3 +23,8 @@ async def page() -> FileResponse:
 @router.get("/live", include_in_schema=False)
 async def live_page() -> FileResponse:
     return FileResponse(STATIC / "live.html")
+
+
+@router.get("/editor", include_in_schema=False)
+async def editor_page() -> FileResponse:
+    return FileResponse(STATIC / "editor.html")

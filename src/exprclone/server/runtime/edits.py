@@ -1,4 +1,5 @@
-"""Edits: a clone prepared once on the server and rendered again with other strengths as a user drags a slider.
+"""Edits: a clone prepared once on the server and rendered again with other strengths as a user drags a slider; and
+a photo prepared once for the expression editor, rendered again with other controls' values (:class:`Editing`).
 
 ``POST /api/edits`` prepares the clone (:func:`exprclone.prepare`: the landmarks, the
 expression, the lambda search, the ERI's inputs) in a clone worker, twice: at the target
@@ -21,7 +22,7 @@ import secrets
 import threading
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Generic, Protocol, TypeVar
 
 from ...io.images import encode_image
 from ...io.record import result_record
@@ -29,6 +30,7 @@ from .jobs import JOB_ID, NoSuchJob
 from .limits import Busy
 
 if TYPE_CHECKING:
+    from ...expressions.editor import Editor
     from ...pipeline.cloner import Prepared
     from ...pipeline.group import Group
     from ...pipeline.result import CloneResult
@@ -78,15 +80,46 @@ class Edit:
         return encode_image(result.image, extension), said
 
 
-class Edits:
-    """The server's edits: at most ``limit`` kept, each until ``ttl`` seconds pass without a render."""
+@dataclass
+class Editing:
+    """One photo prepared for the expression editor (``POST /api/editor``): at the photo's size and at the preview's.
+
+    Attributes
+    ----------
+    full, preview : Editor
+        The photo's editor (:class:`exprclone.expressions.editor.Editor`) at its size, and at the preview's (the same
+        object when the photo is no larger).
+    used : float
+        When it was made or last rendered (``time.time()``).
+    """
+
+    full: Editor
+    preview: Editor
+    used: float = field(default_factory=time.time)
+
+    def answer(self, preview: bool, values: dict[str, float], extension: str) -> bytes:
+        """The photo with the controls at ``values``, the preview or at its size, encoded as a file of ``extension``."""
+        return encode_image((self.preview if preview else self.full).render(values).image, extension)
+
+
+class Kept(Protocol):
+    """What the server keeps for a client to render again: when it was last used."""
+
+    used: float
+
+
+K = TypeVar("K", bound=Kept)
+
+
+class Edits(Generic[K]):
+    """The server's edits (or editors): at most ``limit`` kept, each until ``ttl`` seconds pass without a render."""
 
     def __init__(self, limit: int, ttl: float) -> None:
         self.limit, self.ttl = limit, ttl
-        self._edits: dict[str, Edit] = {}
+        self._edits: dict[str, K] = {}
         self._lock = threading.Lock()  # renders look edits up from threads
 
-    def add(self, edit: Edit) -> str:
+    def add(self, edit: K) -> str:
         """Keep ``edit``; its id. :class:`Busy` when ``limit`` are kept already."""
         with self._lock:
             self._expire(time.time())
@@ -97,7 +130,7 @@ class Edits:
             self._edits[edit_id] = edit
             return edit_id
 
-    def get(self, edit_id: str) -> Edit:
+    def get(self, edit_id: str) -> K:
         """The edit, its time to live started again; :class:`NoSuchEdit` if there is none by that id."""
         with self._lock:
             self._expire(time.time())

@@ -15,7 +15,7 @@ from fastapi import Depends
 from starlette.requests import HTTPConnection
 
 from ..settings import Settings
-from .edits import Edits
+from .edits import Edit, Editing, Edits
 from .hosts import Hosts
 from .limits import Gate
 from .processes import Processes
@@ -27,8 +27,8 @@ T = TypeVar("T")
 
 
 class Work:
-    """The server's state: where its clone and video work runs (:attr:`backend`), the work queue's gate, the edits and
-    the live sessions.
+    """The server's state: where its clone and video work runs (:attr:`backend`), the work queue's gate, the edits, the
+    expression editor's photos and the live sessions.
 
     Attributes
     ----------
@@ -47,7 +47,8 @@ class Work:
             from .cluster import Cluster  # (Dask, an extra, is loaded only by a server that uses it)
 
             self.backend = Cluster(settings)
-        self.edits = Edits(settings.max_edits, settings.edit_ttl)
+        self.edits: Edits[Edit] = Edits(settings.max_edits, settings.edit_ttl)
+        self.editors: Edits[Editing] = Edits(settings.max_edits, settings.edit_ttl)  # the expression editor's photos
         self.renders = ThreadPoolExecutor(settings.workers, thread_name_prefix="render")  # edits render in this process
         self.live_sessions = 0
         self.live_hosts = Hosts(settings.max_live)
