@@ -1,20 +1,32 @@
 """The distance-based (DB) metric, Eqs. (7)-(8), which picks the elasticity ratio.
 
-``DB(lambda_k) = exp(|E(lambda_k) - E_source_exp| / s) + omega_db exp(|E(lambda_k) - E_target_gl| / s)``
+``DB(lambda_k) = exp(|E(lambda_k) - E_source_exp| / u) + omega_db exp(|E(lambda_k) - E_target_gl| / u)``
 
-with ``E`` the eigenface features (:mod:`exprclone.geometry.eigenface`) and ``omega_db = 1`` as
-in the paper. The paper takes exponentials of raw distances, whose unit is arbitrary,
-and the unit decides the answer: with tiny distances ``exp`` is linear and Eq. (8)
-always keeps the global result, with large ones the first term swamps the second and
-it always takes the local result. We measure distances in the unit of the training
-faces: features are whitened (Mahalanobis distance in face space) and divided by
-``s = sqrt(2 K)``, the expected distance between two training faces, so a distance of
-1 is "as far apart as two typical faces". Exponents stay near [0, 3]: no overflow, no
-flattening, and the answer does not depend on how the basis was scaled.
+with ``omega_db = 1`` and one ``lambda_k`` for the whole face, as in the paper. How each part is read (this reading was
+written down before any choice of lambda_k was measured on it, and nothing in it was tuned to the rate of
+``lambda_k > 0`` it gives):
 
-The candidate images ``I_target_exp(lambda_k)`` are the geometric (elastic) results,
-rendered straight into the 64-pixel crop frame from a shrunk copy of the target photo
-(a full-size warp per candidate would be wasted on a 64-pixel feature).
+- ``E``, the features (:mod:`exprclone.geometry.eigenface`): eigenface coefficients (Turk and Pentland) of the face's
+  organs, the patches of the brows, eyes, nose and mouth of a grey crop aligned on the eye centres with 128 pixels
+  between them. There, the organs' changes between GI and LI (0.013-0.08 inter-ocular distances) are 2-10 pixels;
+  in the 64-pixel crops of before (25.6 pixels between the eyes) they were a fraction of one. The basis is trained as
+  the paper trains it, on several expressions of one person: of each person of the training set (the London Set's
+  neutral face and smile), each person's mean removed, so that its axes span expression, not identity.
+- ``|.|``, the Euclidean distance between feature vectors in face space, as Turk and Pentland measure it (not whitened:
+  no axis weighted up), in one unit ``u``: the root-mean-square distance between two photos of one training person
+  (:attr:`exprclone.geometry.eigenface.Eigenfaces.unit`; for the London Set's basis, a person's smile from their own
+  neutral face). The paper takes exponentials of distances whose unit it does not give, and the unit decides the
+  answer (tiny distances make ``exp`` linear, and then, the triangle inequality says, ``lambda_k = 0`` always wins;
+  large ones let the first term swamp the second). The paper's features come from several expressions of one person,
+  so the one scale they carry is how far that person's expressions move the face: a distance of 1 is one expression
+  of one person away from another. The basis's own spread, stated once, not a constant chosen by its effect.
+- ``I_target_exp(lambda_k)``, the candidates, scored as the synthesized image, not as geometry alone: E+MD's image at
+  GI's landmarks (the target photo warped, its ERI weighted by the MD mask, the source's mouth interior pasted) carried
+  to each candidate's landmarks by the piecewise-affine map of the target's mesh from GI's control points to the
+  candidate's. The target photo's part of it is the candidate's own warp exactly (two affine maps of one triangle
+  are one); its shading and mouth move with the triangles they lie in. It is made at full strength with the mouth
+  pasted, whatever a render asks, so that lambda_k is the same for every strength (a render changes strengths without
+  preparing again). ``E_target_gl`` is the candidate at ``lambda_k = 0``, GI's image itself.
 """
 
 from __future__ import annotations
