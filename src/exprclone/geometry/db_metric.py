@@ -31,6 +31,7 @@ written down before any choice of lambda_k was measured on it, and nothing in it
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,8 +45,8 @@ from .eigenface import Eigenfaces
 #: candidate elasticity ratios lambda_k = k_A' / k_N searched by Eq. (8).
 LAMBDAS = (0.0, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 5.0, 10.0, np.inf)
 #: passes of the elastic model's grid search (:data:`exprclone.geometry.elastic.PASSES`) for the candidates the metric compares:
-#: two place each point to a 64th of its window, a small part of a pixel of the 64-pixel crops; the lambda_k chosen
-#: is then solved in full.
+#: two place each point to a 64th of its window (the window from A to A' is at most a tenth of an inter-ocular distance,
+#: 13 pixels of the features' crop: a 64th is a fifth of one); the lambda_k chosen is then solved in full.
 CANDIDATE_PASSES = 2
 
 
@@ -57,7 +58,8 @@ class DBCurve:
     ----------
     lambdas, db : ndarray of shape (L,)
     to_source, to_global : ndarray of shape (L,)
-        The two scaled distances of Eq. (7).
+        The two distances of Eq. (7), in the basis's unit (:attr:`~exprclone.geometry.eigenface.Eigenfaces.unit`):
+        its terms are ``exp(to_source)`` and ``omega_db exp(to_global)``.
     best : float
         ``lambda_k_opt`` of Eq. (8).
     """
@@ -70,53 +72,72 @@ class DBCurve:
 
 
 def db_metric(
-    e_candidates: np.ndarray, e_source_exp: np.ndarray, e_target_gl: np.ndarray, omega_db: float = 1.0
+    e_candidates: np.ndarray, e_source_exp: np.ndarray, e_target_gl: np.ndarray, unit: float, omega_db: float = 1.0
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Eq. (7) for each candidate feature vector, distances in units of ``sqrt(2 K)``.
+    """Eq. (7) for each candidate feature vector, distances in ``unit`` (the basis's: see the module's notes).
 
     Parameters
     ----------
     e_candidates : ndarray of shape (L, K)
-        Whitened eigenface features of the candidates ``I_target_exp(lambda_k)``.
+        Eigenface features of the candidates ``I_target_exp(lambda_k)``.
     e_source_exp, e_target_gl : ndarray of shape (K,)
+    unit : float
     omega_db : float
 
     Returns
     -------
     db, to_source, to_global : ndarray of shape (L,)
-        DB and its two scaled distances.
+        DB and its two distances in ``unit``.
     """
-    scale = np.sqrt(2.0 * e_candidates.shape[1])
-    to_source = np.linalg.norm(e_candidates - e_source_exp, axis=1) / scale
-    to_global = np.linalg.norm(e_candidates - e_target_gl, axis=1) / scale
+    to_source = np.linalg.norm(e_candidates - e_source_exp, axis=1) / unit
+    to_global = np.linalg.norm(e_candidates - e_target_gl, axis=1) / unit
     return np.exp(to_source) + omega_db * np.exp(to_global), to_source, to_global
 
 
-def target_grey(target_neutral: np.ndarray, mesh: piecewise.Mesh, layout: Layout) -> tuple[np.ndarray, float]:
-    """The target photo in grey, shrunk near the crops' scale, and its scale (:func:`exprclone.geometry.eigenface.downscaled`):
-    what every candidate's crop is warped from, the same for every expression cloned onto it."""
-    return eigenface.downscaled(target_neutral, eigenface.crop_transform(mesh.points[: mesh.n_landmarks], layout))
+@dataclass(frozen=True)
+class Synthesized:
+    """The clone's image at GI's landmarks as the candidates are carried from it (:meth:`of`).
+
+    Attributes
+    ----------
+    grey : ndarray of shape (h, w)
+        The image in grey, shrunk near the features' scale (:func:`exprclone.geometry.eigenface.downscaled`).
+    control : ndarray of shape (P, 2)
+        The mesh's control points it was warped to, on ``grey``.
+    """
+
+    grey: np.ndarray
+    control: np.ndarray
+
+    @classmethod
+    def of(cls, image: np.ndarray, control: np.ndarray, layout: Layout, n_landmarks: int) -> Synthesized:
+        """``image`` (``(H, W, 3)`` uint8 RGB), warped to the mesh's ``control`` points (landmarks first)."""
+        transform = eigenface.crop_transform(control[:n_landmarks], layout, eigenface.FEATURE_SIZE)
+        grey, scale = eigenface.downscaled(image, transform)
+        return cls(grey, control * scale)
 
 
-def render_crops(target: tuple[np.ndarray, float], mesh: piecewise.Mesh, candidates: list[np.ndarray], layout: Layout) -> np.ndarray:
-    """Aligned crops of the target photo (its :func:`target_grey`) warped to each candidate landmark set, ``(L, S, S)``.
+def carried_crops(synthesized: Synthesized, mesh: piecewise.Mesh, candidates: Sequence[np.ndarray], layout: Layout) -> np.ndarray:
+    """The features' crops of the candidates, ``(L, S, S)``: ``synthesized`` carried from its control points to each
+    candidate's by the mesh's piecewise-affine map, in the crop its own eyes set
+    (:func:`exprclone.geometry.eigenface.crop_transform`).
 
     Each candidate labels its crop's pixels by triangle; the triangles' maps of all candidates are solved in one batch
     (:func:`exprclone.imaging.piecewise.affines`), each as it would be alone.
     """
-    size = eigenface.CROP_SIZE
-    grey, scale = target
+    size = eigenface.FEATURE_SIZE
     labellings = []
     for landmarks in candidates:
         dst = mesh.control_points(lips.uncross(landmarks, layout))
         dst, _ = piecewise.unfold(mesh.points, dst, mesh.triangles, mesh.n_moving)
-        t = eigenface.crop_transform(landmarks, layout)
+        t = eigenface.crop_transform(landmarks, layout, size)
         labellings.append(piecewise.Labelling.of(align.apply(t, dst), mesh.triangles, (size, size)))
-    return np.asarray([piecewise.sample(grey, pa) for pa in piecewise.affines(labellings, mesh.points * scale)], np.float32)
+    carried = piecewise.affines(labellings, synthesized.control)
+    return np.asarray([piecewise.sample(synthesized.grey, pa) for pa in carried], np.float32)
 
 
 def choose_lambda(
-    target: tuple[np.ndarray, float],
+    synthesized: Synthesized,
     mesh: piecewise.Mesh,
     candidates: list[np.ndarray],
     lambdas: np.ndarray,
@@ -126,14 +147,14 @@ def choose_lambda(
 ) -> DBCurve:
     """Eq. (8): the candidate ``lambda_k`` of smallest DB.
 
-    ``candidates[i]`` are the elastic landmarks for ``lambdas[i]``; ``lambdas[0]`` must
-    be 0, whose candidate is the global result ``I_target_gl``. ``target`` is the target
-    photo as :func:`target_grey` gives it (a :class:`~exprclone.Cloner` keeps it);
-    ``source_crop`` the source's expression photo as :func:`exprclone.geometry.eigenface.crop` gives it.
+    ``candidates[i]`` are the elastic landmarks for ``lambdas[i]``; ``lambdas[0]`` must be 0, whose candidate is GI,
+    ``I_target_gl``. ``synthesized`` is the clone's image at GI (:class:`Synthesized`), carried to each candidate
+    (:func:`carried_crops`); ``source_crop`` the source's expression photo in the features' crop
+    (:func:`exprclone.geometry.eigenface.crop` at :data:`~exprclone.geometry.eigenface.FEATURE_SIZE`).
     """
     if lambdas[0] != 0:
         raise ValueError("the first candidate lambda_k must be 0 (the global warping result)")
-    e = basis.features(render_crops(target, mesh, candidates, layout))
+    e = basis.features(carried_crops(synthesized, mesh, candidates, layout))
     e_src = basis.features(source_crop[None])[0]
-    db, to_source, to_global = db_metric(e, e_src, e[0])
+    db, to_source, to_global = db_metric(e, e_src, e[0], basis.unit)
     return DBCurve(np.asarray(lambdas, float), db, to_source, to_global, float(lambdas[int(np.argmin(db))]))
