@@ -17,6 +17,14 @@ With --held-out K the people are dealt into K folds (as evaluate deals them), an
 basis learnt without its fold's people (``lambda_held``), the shipped basis having seen every London person.
 
 Prints how many pairs pick lambda_k > 0 with each basis, and the quartiles of the terms; writes one row per pair.
+
+    python tools/db_terms.py --evaluated REPORT/pairs.csv
+
+reads instead the pairs that ``exprclone evaluate --retargets true,false`` scored, and prints, pair by pair with the
+paper's stages (``[no retarget]``), the elastic model against its GI (elastic - global, elastic+eri - global+eri, e+md -
+global+eri) on every pair and on the pairs whose lambda_k is above 0 alone: the mouth's landmark error against the
+target's real smile, and identity; then each method of the paper's stages against the default's. Means with 95%
+intervals (1.96 standard errors of the paired differences).
 """
 
 from __future__ import annotations
@@ -37,6 +45,10 @@ from exprclone.landmarks.backends import default_detector
 from exprclone.landmarks.layout import DLIB68
 from exprclone.pipeline.cloner import Cloner
 
+#: the elastic model's methods and the GI method each is compared with, pair by pair.
+AGAINST_GI = (("elastic", "global"), ("elastic+eri", "global+eri"), ("e+md", "global+eri"))
+#: the paper's stages' rows in evaluate's pairs.csv.
+PAPER = " [no retarget]"
 COLUMNS = ("source", "target", "lambda_k", "to_source_0", "to_source_best", "to_global_best", "to_source_inf", "to_global_inf")
 
 
@@ -50,6 +62,33 @@ def row_of(source: str, target: str, curve) -> dict:
     return row
 
 
+def paired(rows: dict[tuple[str, str, str], dict], a: str, b: str, column: str, pairs: list[tuple[str, str]]) -> str:
+    """``a - b`` on ``column`` over ``pairs`` (both scored), mean with a 95% interval, and how many."""
+    d = np.array([float(rows[s, t, a][column]) - float(rows[s, t, b][column]) for s, t in pairs if (s, t, a) in rows and (s, t, b) in rows])
+    if len(d) < 2:
+        return f"{'-':>26s}"
+    half = 1.96 * d.std(ddof=1) / np.sqrt(len(d))
+    return f"{d.mean():+.4f} [{d.mean() - half:+.4f}, {d.mean() + half:+.4f}]"
+
+
+def evaluated(path: str) -> None:
+    """The paired differences of the module's notes, from evaluate's ``pairs.csv`` at ``path``."""
+    with open(path, newline="") as f:
+        rows = {(r["source"], r["target"], r["method"]): r for r in csv.DictReader(f) if not r["failed"]}
+    every = sorted({(s, t) for s, t, m in rows if m == "e+md" + PAPER})
+    moved = [(s, t) for s, t in every if float(rows[s, t, "elastic" + PAPER]["lambda_k"] or 0) > 0]
+    print(f"{len(every)} pairs; lambda_k > 0 on {len(moved)} ({100 * len(moved) / max(len(every), 1):.0f}%), the paper's stages")
+    for subset, pairs in (("all pairs", every), ("lambda_k > 0", moved)):
+        print(f"  {subset}: {'mouth':>26s} {'identity':>26s}")
+        for a, b in AGAINST_GI:
+            said = " ".join(paired(rows, a + PAPER, b + PAPER, column, pairs) for column in ("mouth", "identity"))
+            print(f"    {a} - {b}{PAPER}: {said}")
+    print(f"  the paper's stages against the default's, all pairs: {'mouth':>20s} {'identity':>26s} {'judged smiling':>26s}")
+    for method in ("global", "elastic", "global+eri", "elastic+eri", "e+md"):
+        said = " ".join(paired(rows, method + PAPER, method, column, every) for column in ("mouth", "identity", "smiling"))
+        print(f"    {method}{PAPER} - {method}: {said}")
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     datasets.add_argument(parser)
@@ -57,7 +96,11 @@ def main() -> int:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--held-out", type=int, default=0, metavar="K")
     parser.add_argument("--out", default="db_terms.csv")
+    parser.add_argument("--evaluated", metavar="PAIRS_CSV", help="evaluate's pairs.csv: its paired differences instead")
     args = parser.parse_args()
+    if args.evaluated:
+        evaluated(args.evaluated)
+        return 0
     data = Dataset.open(Path(args.data) / "london")
     folds = data.folds(args.held_out, args.seed) if args.held_out > 1 else None
     pairs = data.pairs(args.pairs, args.seed, folds)

@@ -241,6 +241,15 @@ def test_the_db_metrics_candidates_start_from_the_image_e_md_gives_at_gi(pair):
     assert np.array_equal(image, whole)
 
 
+def test_lambda_zero_gives_gi_bit_for_bit(pair):
+    """With the paper's stages the elastic model at lambda_k = 0 is GI: elastic + ERI's image is global + ERI's (the
+    compare sheet then says (f) = (d))."""
+    images, landmarks = pair
+    made = exprclone.clone_methods(*images, ("global+eri", "elastic+eri"), landmarks=landmarks, retarget=False, lambda_k=0.0)
+    assert np.array_equal(made["elastic+eri"].image, made["global+eri"].image)
+    assert not np.allclose(made["elastic+eri"].landmarks["local"], made["elastic+eri"].landmarks["global"])
+
+
 def test_a_prepared_clone_renders_what_a_whole_clone_gives(pair, results):
     """clone() is prepare + render: rendered again with other cheap options (strength, regions, mouth), a prepared clone
     gives bit for bit the image a whole clone with those options gives; it refuses what needs preparing again."""

@@ -11,7 +11,9 @@ from .inputs import add_inputs, load_inputs, source_photos
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    c = sub.add_parser("compare", help="the paper's Figs. 11-13 and the DB curve as one sheet, or its Figs. 16-17 or 19-21")
+    c = sub.add_parser(
+        "compare", help="the paper's Figs. 11-13 by its stages, the DB curve and the default's row, as one sheet; or Figs. 16-17 or 19-21"
+    )
     add_inputs(c, tuple(n for n in names(Options) if n != "method"))  # every method is on the sheet
     c.add_argument("-o", "--output", required=True, help="output image (.png, .jpg, ...)")
     c.add_argument(

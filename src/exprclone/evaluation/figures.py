@@ -114,7 +114,7 @@ def why_same(method: str, earlier: str, result: CloneResult) -> str:
     shapes = (BY_NAME[method].shape, BY_NAME[earlier].shape)
     retargeted = result.options is not None and result.options.retarget
     if shapes[0] != shapes[1] and shapes[1] == gi and retargeted:
-        return "retarget makes LI GI: nothing to balance"
+        return "retarget makes LI GI" + (": nothing to balance" if shapes[0] == elastic else "")
     if shapes == (elastic, gi):
         return f"lambda_k = 0 ({'the DB metric' if result.db_curve is not None else 'given'}) keeps GI"
     if shapes == (elastic, li):
