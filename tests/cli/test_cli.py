@@ -14,6 +14,7 @@ from PIL import Image
 
 import exprclone
 import exprclone.expressions
+from exprclone.evaluation.panels import BAND, CELL, HEIGHT
 from exprclone.expressions.files import write
 
 SN, SE, TN = str(neutral_path("001")), str(smile_path("001")), str(neutral_path("003"))
@@ -30,6 +31,8 @@ def test_clone_writes_image_and_json(london, tmp_path):
     data = json.loads(record.read_text())
     assert data["method"] == "e+md" and len(data["landmarks"]["final"]) == 68
     assert len(data["db_curve"]) > 5 and data["lambda_k"] in [c["lambda_k"] for c in data["db_curve"]]
+    for candidate in data["db_curve"]:  # Eq. 7, its terms as they came: DB = e^to_source + e^to_global
+        assert candidate["db"] == pytest.approx(np.exp(candidate["to_source"]) + np.exp(candidate["to_global"]))
     assert sorted(os.listdir(tmp_path)) == ["out.json", "out.png"]  # no temporary files left
     assert run("clone", SN, SE, TN, "-o", out, "--save-json", record).returncode == 0  # the product's: nothing to choose
     data = json.loads(record.read_text())
@@ -145,11 +148,13 @@ def test_a_mistyped_word_is_one_line_with_the_closest_and_the_commands_help(tmp_
 
 
 def test_compare_draws_the_sheet(london, tmp_path):
+    """Fig. 11's rows by the paper's stages, then the default's; with --no-retarget the paper's alone."""
     out = tmp_path / "panel.png"
     p = run("compare", SN, SE, TN, "-o", out)
     assert p.returncode == 0, p.stderr
-    w, h = Image.open(out).size
-    assert w == 8 * 320 and h == 3 * 320
+    assert Image.open(out).size == (9 * CELL, BAND + 4 * HEIGHT) and "by the paper's stages, lambda_k=" in p.stdout
+    p = run("compare", SN, SE, TN, "-o", out, "--no-retarget")
+    assert p.returncode == 0 and Image.open(out).size == (9 * CELL, BAND + 3 * HEIGHT) and "default" not in p.stdout
 
 
 def test_evaluate_on_two_pairs(london, tmp_path):
@@ -224,7 +229,7 @@ def test_compare_draws_figure_19(london, tmp_path):
     out = tmp_path / "fig19.png"
     p = run("compare", SN, SE, TN, "-o", out, "--figure", "19")
     assert p.returncode == 0, p.stderr
-    assert Image.open(out).size == (6 * 320, 320) and "global warp rbf" in p.stdout
+    assert Image.open(out).size == (6 * CELL, HEIGHT) and "global warp rbf" in p.stdout
 
 
 @pytest.mark.parametrize("figure, methods", [("16", 4), ("17", 3)])
@@ -234,7 +239,7 @@ def test_compare_draws_figures_16_and_17(london, tmp_path, figure, methods):
     out = tmp_path / f"fig{figure}.png"
     p = run("compare", SN, SE, TN, "-o", out, "--figure", figure)
     assert p.returncode == 0, p.stderr
-    assert Image.open(out).size == ((methods + 4) * 320, 320) and f"Fig. {figure}, {methods} methods, lambda_k=" in p.stdout
+    assert Image.open(out).size == ((methods + 4) * CELL, HEIGHT) and f"Fig. {figure}, {methods} methods, lambda_k=" in p.stdout
 
 
 def test_figure_17_shows_song_et_als_global_warp_alone(london, tmp_path):
@@ -347,7 +352,7 @@ def test_compare_with_a_built_in_expression(london, tmp_path):
     out = tmp_path / "sheet.jpg"
     p = run("compare", TN, "--expression", "smile-126", "-o", out)
     assert p.returncode == 0, p.stderr
-    assert Image.open(out).size[0] == 8 * 320
+    assert Image.open(out).size[0] == 9 * CELL
 
 
 def test_evaluate_scores_an_expression_only_on_people_it_was_not_made_from(london, tmp_path):

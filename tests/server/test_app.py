@@ -23,6 +23,7 @@ import exprclone
 import exprclone.landmarks.backends
 from exprclone import data as samples
 from exprclone import expressions
+from exprclone.evaluation.panels import BAND, CELL, HEIGHT
 from exprclone.io.images import load_image
 from exprclone.io.landmarks import read_landmarks, write_landmarks
 from exprclone.io.video import probe, read_frames
@@ -107,12 +108,14 @@ def test_clone_as_json_with_options_and_a_landmark_file(client):
 
 def test_compare_answers_the_sheet(client):
     r = client.post("/api/compare", files=files())
-    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (8 * 320, 3 * 320)
+    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (9 * CELL, BAND + 4 * HEIGHT)
+    r = client.post("/api/compare", files=files(), data={"retarget": "false"})  # the paper's stages alone
+    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (9 * CELL, BAND + 3 * HEIGHT)
 
 
 def test_compare_answers_figure_17_on_song_et_als_global_warp_alone(client):
     r = client.post("/api/compare", files=files(), data={"figure": "17"})
-    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (7 * 320, 320)
+    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (7 * CELL, HEIGHT)
     r = client.post("/api/compare", files=files(), data={"figure": "17", "global_warp": "rbf"})
     assert r.status_code == 400 and r.json()["error"].startswith("global_warp: Fig. 17 shows the methods on Song et al.'s global warp")
 
@@ -396,7 +399,7 @@ def test_given_global_landmarks_as_a_file(client, sample_images, tmp_path):
 
 def test_compare_draws_figure_19(client):
     r = client.post("/api/compare", files=files(), data={"figure": "19"})
-    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (6 * 320, 320)
+    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (6 * CELL, HEIGHT)
 
 
 @pytest.mark.parametrize(
@@ -449,7 +452,9 @@ def test_clone_one_photo_with_a_built_in_expression_answers_the_python_apis_imag
     assert record["inputs"]["source_expression"] == "expression smile (expression)" and record["options"]["only"] == ["mouth"]
     assert np.array_equal(np.asarray(Image.open(io.BytesIO(base64.b64decode(record["png"]))).convert("RGB")), expected.image)
     r = client.post("/api/compare", files=target, data={"expression": "smile-001"})
-    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (8 * 320, 3 * 320)
+    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (9 * CELL, BAND + 4 * HEIGHT)
+    r = client.post("/api/compare", files=files(), data={"retarget": "false"})  # the paper's stages alone
+    assert r.status_code == 200 and Image.open(io.BytesIO(r.content)).size == (9 * CELL, BAND + 3 * HEIGHT)
 
 
 @pytest.mark.parametrize(

@@ -234,8 +234,7 @@ def _prepare_one(
         warnings.warn(message, ExprCloneWarning, stacklevel=stacklevel)
     se = request.source_expression
     assert se is not None and se.points is not None
-    crop = se.seen(request.options.landmarks_layout).crop if request.check_roles else None
-    prepared = (cloner or pair(request)).prepare(se.image, se.points, methods, crop=crop)
+    prepared = (cloner or pair(request)).prepare(se.image, se.points, methods)
     return dataclasses.replace(prepared, landmarker=placed, warnings=said)
 
 

@@ -87,9 +87,7 @@ class Face:
     """A face as the role check sees it: its landmarks, its eye-aligned grey crop
     (:func:`exprclone.geometry.eigenface.crop`), and the photo for its descriptor, made when first asked for.
 
-    The door keeps it with its photo (:meth:`exprclone.pipeline.request.Photo.seen`). A clone whose lambda_k the DB
-    metric chooses compares the same crop of the source's expression (:func:`exprclone.geometry.db_metric.choose_lambda`):
-    the door makes it once for both.
+    The door keeps it with its photo (:meth:`exprclone.pipeline.request.Photo.seen`).
     """
 
     points: np.ndarray

@@ -195,11 +195,12 @@ def prepare_edit(request: CloneRequest, preview: int) -> tuple[Prepared | Group,
 
 
 def compare(request: CloneRequest, extension: str = ".png") -> bytes:
-    """``POST /api/compare``: the sheet of Figs. 11-13, or of Figs. 19-21, encoded as a file of ``extension`` (as
-    ``exprclone compare --figure`` draws them)."""
+    """``POST /api/compare``: the sheet of Figs. 11-13 (by the paper's stages, and this project's default with
+    ``retarget``), or of Figs. 16-17 or 19-21, encoded as a file of ``extension`` (as ``exprclone compare --figure`` draws
+    them)."""
     asked = _request(request)
-    methods, options = figure_request(request.figure, asked.options, "global_warp" in request.given)
-    results = door.prepare(replace(asked, options=options), methods).render()
+    runs = figure_request(request.figure, asked.options, "global_warp" in request.given)
+    results = [door.prepare(replace(asked, options=run.options), run.methods).render() for run in runs]
     return encode_image(draw(request.figure, results, [p.image for p in asked.photos]), extension)
 
 

@@ -71,15 +71,17 @@ async def compare(
     figure: Annotated[
         str,
         Form(
-            description="11: Figs. 11-13 and the DB curve; 16: E+MD beside Song et al.'s method; 17: the elastic model and E+MD on"
+            description="11: Figs. 11-13 by the paper's stages, the DB curve and its terms, and this project's default below them"
+            " unless retarget is false; 16: E+MD beside Song et al.'s method; 17: the elastic model and E+MD on"
             " Song et al.'s global warp; 19: the elastic model on the RBF result (Figs. 19-21)",
             json_schema_extra={"enum": list(FIGURES)},
         ),
     ] = FIGURES[0],
     format: Annotated[str, Query(pattern=f"^({'|'.join(SHEETS)})$", description="png (default), jpeg or webp")] = "png",
 ) -> Response:
-    """Every method of Fig. 11, the difference images of Figs. 12-13 and the DB curve, as one sheet (PNG, JPEG or WebP:
-    ``?format=``); or Figs. 16-17 (``figure=16``, ``17``: E+MD beside Song et al.'s method), or Figs. 19-21 (``figure=19``:
+    """Every method of Fig. 11 by the paper's stages, the difference images of Figs. 12-13, the DB curve and its terms,
+    and (with ``retarget``, the default) the seven as this project makes them by default below, as one sheet (PNG,
+    JPEG or WebP: ``?format=``); or Figs. 16-17 (``figure=16``, ``17``: E+MD beside Song et al.'s method), or Figs. 19-21 (``figure=19``:
     the elastic model on the RBF transfer's result, or on ``global_landmarks``)."""
     request = await clone_request(server, uploads, asked, figure)
     extension, media_type = SHEETS[format]

@@ -362,7 +362,8 @@ $("#compare").addEventListener("click", async () => {
     const url = URL.createObjectURL(await (await call("/api/compare", { method: "POST", body: form })).blob());
     $("#sheet-caption").textContent = $("#figure").value === "19"
       ? "Figs. 19-21 of the paper on these photos: the elastic model on the result of another global warp, and the DB metric over λk."
-      : "Figs. 11-13 of the paper on these photos, and the DB metric over λk.";
+      : "Figs. 11-13 of the paper on these photos by the paper's stages, and the DB metric's choice of λk explained;"
+        + ($("#retarget") && $("#retarget").checked ? " last row: this project's default (the target's own smile)." : "");
     $("#sheet").src = url;
     $("#download-sheet").href = url;
     $("#sheet-box").hidden = false;
