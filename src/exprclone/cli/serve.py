@@ -74,7 +74,19 @@ def add_bounds(p: argparse.ArgumentParser, flags: tuple[str, ...]) -> None:
 def add_address(p: argparse.ArgumentParser) -> None:
     """Where a server listens: ``--host`` and ``--port``."""
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default: 127.0.0.1, this machine only)")
-    p.add_argument("--port", type=int, default=8000, help="port (default: 8000)")
+    p.add_argument("--port", type=port, default=8000, help="port (default: 8000)")
+
+
+#: the ports a server may listen on.
+PORTS = (1, 65535)
+
+
+def port(text: str) -> int:
+    """An argparse type: a port number within :data:`PORTS` (beyond them, the socket's own error was a long traceback)."""
+    low, high = PORTS
+    if not text.strip().isdigit() or not low <= int(text) <= high:
+        raise argparse.ArgumentTypeError(f"expected a port number from {low} to {high}, got {text!r}")
+    return int(text)
 
 
 def server_packages() -> None:
