@@ -399,12 +399,13 @@ def test_serve_refuses_bad_bounds_before_it_starts(flag, value, expected):
 
 
 @pytest.mark.parametrize("words", [("serve",), ("study", "serve", ".")])
-def test_serving_without_the_server_extra_says_what_to_install(monkeypatch, words):
-    """A library install has no FastAPI (the ``server`` extra): the commands that serve say so in one line."""
+def test_serving_without_the_server_packages_says_what_to_install(monkeypatch, words):
+    """An install without its dependencies (``pip install --no-deps``) has no FastAPI: the commands that serve say so
+    in one line."""
     monkeypatch.setitem(sys.modules, "fastapi", None)  # as if it were not installed
     r = run(*words)
     assert r.returncode == 2 and r.stderr.strip() == (
-        "exprclone: error: serve: needs the web server's packages (fastapi is missing): pip install 'exprclone[server]'"
+        "exprclone: error: serve: needs the web server's packages (fastapi is missing): pip install exprclone installs them"
     )
 
 

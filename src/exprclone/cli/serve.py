@@ -90,12 +90,14 @@ def port(text: str) -> int:
 
 
 def server_packages() -> None:
-    """ExprCloneError unless the web server's packages are installed (the ``server`` extra: FastAPI, uvicorn, ...)."""
+    """ExprCloneError unless the web server's packages are installed (FastAPI, uvicorn, ...: exprclone's own
+    dependencies, missing only from an install without them, ``pip install --no-deps``)."""
     try:
         import fastapi  # noqa: F401
         import uvicorn  # noqa: F401
     except ImportError as e:
-        raise ExprCloneError("serve", f"needs the web server's packages ({e.name} is missing): pip install 'exprclone[server]'") from None
+        missing = f"needs the web server's packages ({e.name} is missing): pip install exprclone installs them"
+        raise ExprCloneError("serve", missing) from None
 
 
 def check_bounds(args: argparse.Namespace, flags: tuple[str, ...]) -> None:
@@ -117,7 +119,7 @@ def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> Non
     answers (its start-up done: the workers ready, the port bound), and "stopped" when it stops (after Ctrl-C,
     :class:`~exprclone.cli.inputs.Interrupted`). ExprCloneError if it cannot start (the port in use: uvicorn logs the
     reason first)."""
-    import uvicorn  # (the server extra: loaded when serving, not for --help)
+    import uvicorn  # (loaded when serving, not for --help)
 
     class Announced(uvicorn.Server):
         async def startup(self, sockets: Any = None) -> None:
