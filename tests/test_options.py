@@ -8,12 +8,13 @@ import argparse
 import json
 
 import pytest
+from conftest import paper_terms
 from fastapi import Depends, FastAPI
 from fastapi.testclient import TestClient
 
 from exprclone.cli.inputs import add_options, options_of
 from exprclone.errors import ExprCloneError
-from exprclone.options import RENDER, SECTIONS, VALUES, Driving, Framing, Options, from_json, from_text, key, names, offered, spec
+from exprclone.options import ADVANCED, RENDER, SECTIONS, VALUES, Driving, Framing, Options, from_json, from_text, key, names, offered, spec
 from exprclone.server.app import add_error_answers
 from exprclone.server.forms import Asked, options_form
 
@@ -207,3 +208,18 @@ def test_every_no_flag_of_every_command_says_what_giving_it_does():
         assert option.flag_help and action.help == option.flag_help and action.help != option.help, (name, action.option_strings)
         on = option.help.split(";")[0].split(":")[0]  # what the option does when on, in its help's first words
         assert not action.help.startswith(on), (name, action.help)
+
+
+def test_the_papers_words_are_only_in_the_advanced_sections():
+    """An option whose page words (its label, sentence, or a choice's) use the paper's words or symbols (lambda_k, GI,
+    a global warp...) sits in a section a page folds away as advanced; and the rule sees the words it is about."""
+    assert paper_terms("Balance λk") and paper_terms("Global warp") and paper_terms("(g) E+MD") and not paper_terms("Whole expression")
+    for cls, name in declared():
+        page = spec(cls, name).page
+        if page is None:
+            continue
+        words = " ".join([page.label, page.sentence, *(f"{c.label} {c.sentence}" for c in page.offered())])
+        if paper_terms(words):
+            assert page.section in ADVANCED, (name, paper_terms(words))
+    advanced = {n for cls, n in declared() if spec(cls, n).page and spec(cls, n).page.section in ADVANCED}
+    assert {"method", "lambda_k", "global_warp", "image_warp", "landmarker", "retarget", "lambda_per_frame"} <= advanced
