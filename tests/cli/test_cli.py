@@ -3,6 +3,7 @@
 import csv
 import json
 import os
+import re
 import subprocess
 import sys
 from dataclasses import replace
@@ -153,6 +154,11 @@ def test_compare_draws_the_sheet(london, tmp_path):
 
 
 def test_evaluate_on_two_pairs(london, tmp_path):
+    """The summary a person reads by default: which method is best on each score, with intervals, in a screenful, and
+    where the full tables are; they are in summary.md (after the same summary), and printed with --full, with what every
+    sign of them means."""
+    from exprclone.evaluation.digest import SCORES
+
     out = tmp_path / "report"
     p = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global,e+md", "--out", out)
     assert p.returncode == 0, p.stderr
@@ -160,8 +166,16 @@ def test_evaluate_on_two_pairs(london, tmp_path):
     assert len(rows) == 1 + 2 * 4  # header, then (no change, real, global, e+md) per pair
     summary = (out / "summary.md").read_text()
     assert "| e+md |" in summary and "| no change |" in summary and (out / "gallery.jpg").is_file()
-    assert "| real | 2 | 0 | 0.0000 / 0.0000" in p.stdout
+    assert "## Which method is best on what" in summary and summary.index("best on what") < summary.index("## All pairs")
     assert "| method | results judged | to the source's expression: mouth |" in summary  # the blendshape judge's table
+    said = p.stdout.splitlines()
+    assert len(said) <= 30 and max(len(line) for line in said) <= 120 and "|" not in p.stdout, p.stdout
+    for score in SCORES:
+        assert re.search(rf"^- {re.escape(score.name)} \((lower|higher) is better\): best (global|e\+md)", p.stdout, re.M), score.name
+    assert f"{out / 'summary.md'} (or --full)" in p.stdout
+    full = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global,e+md", "--out", out, "--full")
+    assert "| real | 2 | 0 | 0.0000 / 0.0000" in full.stdout and "Reading the tables: `a / b` is a mean / a median" in full.stdout
+    assert "`-` where there is nothing to measure" in full.stdout and "Reading the tables" in summary
     scores = list(csv.DictReader(open(out / "blendshapes.csv")))
     assert len(scores) == 2 * 4 and float(scores[0]["mouthSmileLeft"]) >= 0 and len(scores[0]) == 3 + 52
 
@@ -268,7 +282,8 @@ def test_a_global_landmark_file_with_the_wrong_count(pair, tmp_path):
 
 def test_evaluate_with_variants(london, tmp_path):
     out = tmp_path / "report"
-    p = run("evaluate", "--data", london, "--pairs", "1", "--methods", "global,elastic", "--global-warps", "similarity,rbf", "--out", out)
+    words = ("--pairs", "1", "--methods", "global,elastic", "--global-warps", "similarity,rbf", "--out", out, "--full")
+    p = run("evaluate", "--data", london, *words)
     assert p.returncode == 0, p.stderr
     rows = (out / "pairs.csv").read_text().splitlines()
     assert len(rows) == 1 + 2 + 2 * 2  # header, the references, then two methods in two variants
