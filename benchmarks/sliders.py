@@ -35,6 +35,7 @@ def on_the_page(url: str, steps: int) -> list[float]:
     """The page's milliseconds from each of ``steps`` slider changes to its preview shown."""
     with chromium() as page:
         page.goto(url)
+        page.check("#source-photos")  # (the page's default is a built-in expression)
         for field, path in PHOTOS.items():
             page.set_input_files(f"input[type=file][name={field}]", str(path))
         page.click("#clone")

@@ -3,6 +3,7 @@
 import csv
 import json
 import os
+import re
 import subprocess
 import sys
 from dataclasses import replace
@@ -158,6 +159,11 @@ def test_compare_draws_the_sheet(london, tmp_path):
 
 
 def test_evaluate_on_two_pairs(london, tmp_path):
+    """The summary a person reads by default: which method is best on each score, with intervals, in a screenful, and
+    where the full tables are; they are in summary.md (after the same summary), and printed with --full, with what every
+    sign of them means."""
+    from exprclone.evaluation.digest import SCORES
+
     out = tmp_path / "report"
     p = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global,e+md", "--out", out)
     assert p.returncode == 0, p.stderr
@@ -165,8 +171,16 @@ def test_evaluate_on_two_pairs(london, tmp_path):
     assert len(rows) == 1 + 2 * 4  # header, then (no change, real, global, e+md) per pair
     summary = (out / "summary.md").read_text()
     assert "| e+md |" in summary and "| no change |" in summary and (out / "gallery.jpg").is_file()
-    assert "| real | 2 | 0 | 0.0000 / 0.0000" in p.stdout
+    assert "## Which method is best on what" in summary and summary.index("best on what") < summary.index("## All pairs")
     assert "| method | results judged | to the source's expression: mouth |" in summary  # the blendshape judge's table
+    said = p.stdout.splitlines()
+    assert len(said) <= 30 and max(len(line) for line in said) <= 120 and "|" not in p.stdout, p.stdout
+    for score in SCORES:
+        assert re.search(rf"^- {re.escape(score.name)} \((lower|higher) is better\): best (global|e\+md)", p.stdout, re.M), score.name
+    assert f"{out / 'summary.md'} (or --full)" in p.stdout
+    full = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global,e+md", "--out", out, "--full")
+    assert "| real | 2 | 0 | 0.0000 / 0.0000" in full.stdout and "Reading the tables: `a / b` is a mean / a median" in full.stdout
+    assert "`-` where there is nothing to measure" in full.stdout and "Reading the tables" in summary
     scores = list(csv.DictReader(open(out / "blendshapes.csv")))
     assert len(scores) == 2 * 4 and float(scores[0]["mouthSmileLeft"]) >= 0 and len(scores[0]) == 3 + 52
 
@@ -273,7 +287,8 @@ def test_a_global_landmark_file_with_the_wrong_count(pair, tmp_path):
 
 def test_evaluate_with_variants(london, tmp_path):
     out = tmp_path / "report"
-    p = run("evaluate", "--data", london, "--pairs", "1", "--methods", "global,elastic", "--global-warps", "similarity,rbf", "--out", out)
+    words = ("--pairs", "1", "--methods", "global,elastic", "--global-warps", "similarity,rbf", "--out", out, "--full")
+    p = run("evaluate", "--data", london, *words)
     assert p.returncode == 0, p.stderr
     rows = (out / "pairs.csv").read_text().splitlines()
     assert len(rows) == 1 + 2 + 2 * 2  # header, the references, then two methods in two variants
@@ -404,12 +419,13 @@ def test_serve_refuses_bad_bounds_before_it_starts(flag, value, expected):
 
 
 @pytest.mark.parametrize("words", [("serve",), ("study", "serve", ".")])
-def test_serving_without_the_server_extra_says_what_to_install(monkeypatch, words):
-    """A library install has no FastAPI (the ``server`` extra): the commands that serve say so in one line."""
+def test_serving_without_the_server_packages_says_what_to_install(monkeypatch, words):
+    """An install without its dependencies (``pip install --no-deps``) has no FastAPI: the commands that serve say so
+    in one line."""
     monkeypatch.setitem(sys.modules, "fastapi", None)  # as if it were not installed
     r = run(*words)
     assert r.returncode == 2 and r.stderr.strip() == (
-        "exprclone: error: serve: needs the web server's packages (fastapi is missing): pip install 'exprclone[server]'"
+        "exprclone: error: serve: needs the web server's packages (fastapi is missing): pip install exprclone installs them"
     )
 
 
@@ -447,3 +463,63 @@ def test_evaluate_on_a_folder_of_ones_own(tmp_path):
 def test_evaluate_says_where_it_reads_from_when_the_folder_has_no_people(tmp_path):
     p = run("evaluate", "--data", tmp_path, "--out", tmp_path / "r")
     assert p.returncode == 2 and "neutral/NAME.jpg and expression/NAME.jpg" in p.stderr and len(p.stderr.strip().splitlines()) == 1
+
+
+# --- the messages of issue 55: each one line, saying what a person can do -------------------------------------------
+
+
+@pytest.mark.parametrize("words", [("serve",), ("study", "serve", ".")])
+@pytest.mark.parametrize("port", ["99999", "0", "-1", "http"])
+def test_a_port_out_of_range_is_one_line(words, port):
+    """``--port 99999`` ended in the socket's 60-line traceback; now argparse's one line, before anything starts."""
+    r = run(*words, "--port", port)
+    used = "study serve" if words[0] == "study" else "serve"
+    assert r.returncode == 2 and r.stdout == "" and "Traceback" not in r.stderr, r.stderr
+    said = f"argument --port: expected a port number from 1 to 65535, got '{port}'; see exprclone {used} --help"
+    assert r.stderr.strip() == f"exprclone: error: {said}"
+
+
+def test_a_photo_too_small_for_a_face_says_so_with_the_least_size(london, tmp_path):
+    """A 60x60 photo of a whole face: too small for the landmarker to find it, and said so with the size needed; the same
+    photo at 160 pixels is cloned (so the message is about the size, not the face)."""
+    from exprclone.pipeline.group import MIN_ACROSS
+
+    whole = Image.open(TN)
+    for side in (60, 160):
+        whole.resize((side, side), Image.LANCZOS).save(tmp_path / f"{side}.png")
+    expect_error(
+        tmp_path,
+        [tmp_path / "60.png", "--expression", "smile"],
+        f"{tmp_path / '60.png'}: too small to find a face in (60x60 pixels; at least {MIN_ACROSS} on each side needed)",
+    )
+    assert run("clone", tmp_path / "160.png", "--expression", "smile", "-o", tmp_path / "out.png").returncode == 0
+
+
+@pytest.mark.parametrize(
+    "first, second, why",
+    [
+        (0, 1, "so there is no expression to clone"),
+        (0, 2, "so the source's expression goes back onto its own face"),
+        (1, 2, "so the target already wears the expression"),
+    ],
+)
+def test_the_same_file_given_as_two_photos_is_warned_of(london, tmp_path, first, second, why):
+    roles = ("source_neutral", "source_expression", "target_neutral")
+    photos = [SN, SE, TN]
+    photos[second] = photos[first]
+    r = run("clone", *photos, "-o", tmp_path / "out.png")
+    said = f"exprclone: warning: {roles[second]}: the same photo as {roles[first]}, {why}; is one of them the wrong file?"
+    assert r.returncode == 0 and r.stderr.strip() == said, r.stderr
+
+
+def test_three_different_photos_get_no_such_warning(london, tmp_path):
+    r = run("clone", SN, SE, TN, "-o", tmp_path / "out.png")
+    assert r.returncode == 0 and "the same photo" not in r.stderr, r.stderr
+
+
+@pytest.mark.parametrize("command, listed", [("video", ".mp4, .mov or .mkv"), ("clone", ".png, .jpg, .jpeg, .bmp, .tif, .tiff or .webp")])
+def test_an_unknown_output_type_lists_every_accepted_one(london, grid_clip, tmp_path, command, listed):
+    inputs = [TN, grid_clip] if command == "video" else [SN, SE, TN]
+    r = run(command, *inputs, "-o", tmp_path / "out.gif")
+    assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
+    assert f"unknown output format '.gif' (use {listed}" in r.stderr, r.stderr

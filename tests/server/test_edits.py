@@ -60,6 +60,17 @@ def test_a_render_at_the_defaults_is_the_clone_bit_for_bit(client, edit):
     assert record["options"]["strength"] == 0.5 and record["lambda_k"] == expected.lambda_k == edit["lambda_k"]
 
 
+def test_one_photo_sent_as_two_is_answered_with_a_warning(client, edit):
+    """The same photo as the source's neutral and its expression: the edit is made, and its warnings say so (the page
+    shows them above the result); the three different photos have none."""
+    twice = {**files(), "source_expression": ("again.jpg", PHOTOS["source_neutral"].read_bytes())}
+    made = client.post("/api/edits", files=twice)
+    assert made.status_code == 201, made.text
+    client.delete(f"/api/edits/{made.json()['id']}")
+    said = "source_expression: the same photo as source_neutral, so there is no expression to clone; is one of them the wrong file?"
+    assert made.json()["warnings"] == [said] and edit["warnings"] == []
+
+
 def test_the_preview_follows_the_mouths_strength(client, edit):
     """Each step of the mouth's slider opens the preview's mouth more (measured on its landmarks), at 512 pixels; at 0 the
     mouth is the target's own, pixel for pixel, while the eyes still smile."""

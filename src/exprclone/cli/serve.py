@@ -74,16 +74,30 @@ def add_bounds(p: argparse.ArgumentParser, flags: tuple[str, ...]) -> None:
 def add_address(p: argparse.ArgumentParser) -> None:
     """Where a server listens: ``--host`` and ``--port``."""
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default: 127.0.0.1, this machine only)")
-    p.add_argument("--port", type=int, default=8000, help="port (default: 8000)")
+    p.add_argument("--port", type=port, default=8000, help="port (default: 8000)")
+
+
+#: the ports a server may listen on.
+PORTS = (1, 65535)
+
+
+def port(text: str) -> int:
+    """An argparse type: a port number within :data:`PORTS` (beyond them, the socket's own error was a long traceback)."""
+    low, high = PORTS
+    if not text.strip().isdigit() or not low <= int(text) <= high:
+        raise argparse.ArgumentTypeError(f"expected a port number from {low} to {high}, got {text!r}")
+    return int(text)
 
 
 def server_packages() -> None:
-    """ExprCloneError unless the web server's packages are installed (the ``server`` extra: FastAPI, uvicorn, ...)."""
+    """ExprCloneError unless the web server's packages are installed (FastAPI, uvicorn, ...: exprclone's own
+    dependencies, missing only from an install without them, ``pip install --no-deps``)."""
     try:
         import fastapi  # noqa: F401
         import uvicorn  # noqa: F401
     except ImportError as e:
-        raise ExprCloneError("serve", f"needs the web server's packages ({e.name} is missing): pip install 'exprclone[server]'") from None
+        missing = f"needs the web server's packages ({e.name} is missing): pip install exprclone installs them"
+        raise ExprCloneError("serve", missing) from None
 
 
 def check_bounds(args: argparse.Namespace, flags: tuple[str, ...]) -> None:
@@ -105,7 +119,7 @@ def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> Non
     answers (its start-up done: the workers ready, the port bound), and "stopped" when it stops (after Ctrl-C,
     :class:`~exprclone.cli.inputs.Interrupted`). ExprCloneError if it cannot start (the port in use: uvicorn logs the
     reason first)."""
-    import uvicorn  # (the server extra: loaded when serving, not for --help)
+    import uvicorn  # (loaded when serving, not for --help)
 
     class Announced(uvicorn.Server):
         async def startup(self, sockets: Any = None) -> None:

@@ -134,7 +134,8 @@ def check_output_path(path: PathLike, inputs: Iterable[PathLike] = (), extension
     extension = os.path.splitext(path)[1].lower()
     allowed = list(_FORMATS) if extensions is None else list(extensions)
     if extension not in allowed:
-        raise ExprCloneError(path, f"unknown output format '{extension}' (use {' or '.join(allowed[:2])})")
+        listed = f"{', '.join(allowed[:-1])} or {allowed[-1]}" if len(allowed) > 1 else allowed[0]
+        raise ExprCloneError(path, f"unknown output format '{extension}' (use {listed})")
     if any(_same_file(path, source) for source in inputs):
         raise ExprCloneError(path, "output would overwrite input file")
     if os.path.isdir(path):

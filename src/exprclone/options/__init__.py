@@ -29,6 +29,7 @@ from .clone_options import (
     parse_lambda,
 )
 from .specs import (
+    ADVANCED,
     SECTIONS,
     SURFACES,
     Choice,
@@ -54,6 +55,7 @@ from .video_options import SIZE_RANGE, Driving, Framing
 VALUES = (Options, Driving, Framing)
 
 __all__ = [
+    "ADVANCED",
     "FACE_WORDS",
     "GIVEN",
     "GLOBAL_WARPS",

@@ -208,6 +208,7 @@ class Options(Chosen):
             page=Page(
                 "Method",
                 "Which way carries the expression over: the paper's seven, (g) its own, or Song et al.'s, which it is compared with.",
+                "method",
                 choices=tuple(Choice(m.name, f"({m.panel}) {m.title}" if m.panel else m.title, m.sentence, m.panel or None) for m in TABLE),
             ),
         ),
@@ -227,6 +228,7 @@ class Options(Chosen):
                 "Balance λk",
                 "How far the face holds each feature's own new shape against the motion of the whole face: 0 the whole"
                 " face's motion alone, ∞ each feature's shape alone.",
+                "method",
                 choices=lambdas,
             ),
         ),
@@ -251,6 +253,7 @@ class Options(Chosen):
             page=Page(
                 "Landmarks",
                 "Which program finds the points of each face (eyes, brows, nose, mouth, jaw).",
+                "method",
                 choices=tuple(LANDMARKER_WORDS.get(name, Choice(name, name)) for name in LANDMARKERS),
             ),
         ),
