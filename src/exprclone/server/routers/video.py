@@ -45,13 +45,13 @@ async def video(
     return JobMade(id=job_id, status=f"/api/jobs/{job_id}", result=f"/api/jobs/{job_id}/result")
 
 
-@router.get("/api/jobs/{job_id}", responses=errors(404))
+@router.get("/api/jobs/{job_id}", responses=errors(404, 503))
 async def job_state(server: Server, job_id: JobId) -> JobState:
     """A job's ``state`` (queued, running, done, failed), ``progress`` (0 to 1), ``error`` and, once done, ``info``."""
     return JobState(**await server.backend.video_state(job_id))
 
 
-@router.get("/api/jobs/{job_id}/result", responses={200: {"content": {"video/mp4": {}}}, **errors(404, 409)})
+@router.get("/api/jobs/{job_id}/result", responses={200: {"content": {"video/mp4": {}}}, **errors(404, 409, 503)})
 async def job_result(server: Server, job_id: JobId) -> Response:
     """The job's MP4 once it is done; 409 with ``{"error"}`` before."""
     state = await server.backend.video_state(job_id)

@@ -36,7 +36,6 @@ from distributed import KilledWorker, Semaphore, WorkerPlugin
 from distributed.client import FutureCancelledError
 
 from ...cluster import CONNECT_TIMEOUT, connect_async, keep_buffers
-from ...errors import ExprCloneError
 from .. import work
 from ..settings import Settings
 from .limits import Busy, Gate, full
@@ -139,15 +138,17 @@ class Cluster:
         cannot be stopped cleanly), open a new one (:meth:`_reopen`)."""
         while True:
             await asyncio.sleep(WATCH_SECONDS)
-            if self.link is None or self.link.up:
+            link = self.link
+            if link is not None and link.up and self.lost is not None:
+                self.lost = None
+                log.warning("reconnected to the Dask scheduler at %s", self.settings.scheduler)
+            if link is None or link.up:
                 continue
             if self.lost is None:
                 self.lost = time.monotonic()
                 log.error("lost the Dask scheduler at %s; reconnecting", self.settings.scheduler)
-            if self.link.client.status != "connecting":
-                await self._reopen(self.link)
-                self.lost = None
-                log.warning("reconnected to the Dask scheduler at %s", self.settings.scheduler)
+            if link.client.status != "connecting":
+                await self._reopen(link)
 
     async def _reopen(self, old: Link) -> None:
         """Drop the link ``old``, and make a new one, the waits between tries growing (:data:`BACKOFF`)."""
@@ -159,7 +160,7 @@ class Cluster:
             await asyncio.sleep(wait)
             try:
                 self.link = await Link.open(self.settings, RECONNECT_TIMEOUT)
-            except (ExprCloneError, OSError, asyncio.TimeoutError) as e:
+            except Exception as e:  # (whatever stops this try: the next may succeed)
                 log.info("the Dask scheduler is still unreachable (%s)", e)
                 wait = min(2 * wait, BACKOFF[1])
 

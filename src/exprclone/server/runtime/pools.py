@@ -63,10 +63,14 @@ class Worker:
         return cls(executor, process, started)
 
     @property
+    def loaded(self) -> bool:
+        """It started, and loaded its models."""
+        return self.started.done() and not self.started.cancelled() and self.started.exception() is None
+
+    @property
     def ready(self) -> bool:
         """Alive, its models loaded."""
-        done = self.started.done() and not self.started.cancelled() and self.started.exception() is None
-        return done and self.process.is_alive()
+        return self.loaded and self.process.is_alive()
 
     def stop(self) -> None:
         """End the process now (a video job it runs is stopped)."""
@@ -133,12 +137,13 @@ class Pool:
         return self.workers[number]
 
     async def _watch(self) -> None:
-        """Replace the idle workers found dead (a worker at work is replaced when its work fails)."""
+        """Replace the idle workers found dead once they had started (a worker at work is replaced when its work fails;
+        one that could not start, when work is given to it)."""
         while True:
             await asyncio.sleep(WATCH_SECONDS)
             for number in set(range(self.size)) - self.busy:
                 worker = self.workers[number]
-                if worker.started.done() and not worker.process.is_alive():
+                if worker.loaded and not worker.process.is_alive():
                     log.error("an idle %s worker died; starting another", self.name)
                     self._replace(number)
 
