@@ -37,7 +37,7 @@ def pixels(answer: httpx.Response) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def client():
-    running = Server("--workers", "1", "--max-edits", "2")
+    running = Server("--workers", "1", "--max-edits", "2", "--max-edits-per-client", "2")
     with httpx.Client(base_url=running.url, timeout=120) as c:
         yield c
     running.stop()
@@ -95,6 +95,10 @@ def test_the_preview_follows_the_mouths_strength(client, edit):
         ({"strength_mouth": "3"}, {}, 400, "strength_mouth: must be a number from 0 to 2, got 3"),
         ({"only": "lips"}, {}, 400, "only: unknown region 'lips'"),
         ({}, {"preview": "maybe"}, 400, "preview: Input should be a valid boolean"),
+        # the options fixed when the clone was prepared: said, not ignored
+        ({"lambda": "2"}, {}, 400, "lambda: was fixed when the clone was prepared: prepare it again (POST /api/edits)"),
+        ({"strength": "0.5", "method": "global"}, {}, 400, "method: was fixed when the clone was prepared"),
+        ({"retarget": "false"}, {}, 400, "retarget: was fixed when the clone was prepared"),
     ],
 )
 def test_bad_renders_are_one_line_errors(client, edit, form, params, status, message):
