@@ -97,7 +97,7 @@ def main() -> None:
     args = parser.parse_args()
     camera = Path(tempfile.mkdtemp()) / "grid.y4m"
     write_y4m(samples.clip(), camera)
-    server = Server("--workers", "1")
+    server = Server("--workers", "1", "--max-live-per-client", "2")  # (the sessions at once are one client's)
     flags = ("--use-fake-ui-for-media-stream", "--use-fake-device-for-media-stream", f"--use-file-for-fake-video-capture={camera}")
     print(f"exprclone live benchmark: {os.cpu_count()} cores, {args.method}, the sample GRID clip as the camera, {args.seconds:g} s a run")
     try:

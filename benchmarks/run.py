@@ -4,8 +4,8 @@
 
 Prints, for the sample photos at 512x512 and at their full 1350x1350:
   * the median time of each stage (landmark detection of one photo, global, local,
-    elastic for one lambda_k and for all candidates, the lambda search, one mesh warp,
-    the ERI, the MD mask);
+    elastic for one lambda_k and for all candidates, the lambda search of the paper's stages
+    with E+MD's image at GI it carries to the candidates, one mesh warp, the ERI, the MD mask);
   * the median time of each method end to end, with landmarks known, and of e+md with
     landmark detection on all three photos included;
   * e+md against global end to end, the two run in turn (both see the same load: the
@@ -95,10 +95,11 @@ def photos(data: Path, size: int) -> tuple[list[np.ndarray], list[np.ndarray]]:
 
 
 def stages(images, lms, repeat: int) -> dict[str, float]:
-    """Each stage as clone runs it: the shape stages and the details on a Cloner's prepared faces."""
+    """Each stage as clone runs it: the shape stages and the details on a Cloner's prepared faces, the paper's stages
+    (``retarget=False``: with the default's, LI is GI and the lambda search does not run)."""
     sn_img, se_img, tn_img = images
     sn, se, tn = lms
-    cloner = pair(Request.of(sn_img, None, tn_img, landmarks=(sn, None, tn)))
+    cloner = pair(Request.of(sn_img, None, tn_img, landmarks=(sn, None, tn), retarget=False))
     prepared = cloner.prepare(se_img, se, ("e+md",))
     expression, shapes, faces = prepared.expression, prepared.shapes, cloner.faces
     gl, lo, nb = shapes["global"].points, shapes["local"].points, faces.neighbours
@@ -109,7 +110,9 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
     h = np.ones(len(centres))
     before = {name: shapes[name] for name in ("global", "local")}
     cands = list(elastic.elastic_landmarks(gl, lo, nb, lambdas, db_metric.CANDIDATE_PASSES))
-    source_crop = eigenface.crop(se_img, se, DLIB68)  # made with the role check's, before the DB
+    source_crop = eigenface.crop(se_img, se, DLIB68, eigenface.FEATURE_SIZE)
+    synthesis = render.synthesis(faces, expression, "mesh", lambda: prepared.photo)
+    at_gl = db_metric.Synthesized.of(*synthesis(gl), DLIB68, mesh.n_landmarks)
     faces.ratio_faces  # the neutral faces prepared, once per pair
     return {
         "landmark detection (1 photo)": median_ms(lambda: default_detector().detect(tn_img), repeat),
@@ -123,10 +126,11 @@ def stages(images, lms, repeat: int) -> dict[str, float]:
         "elastic (1 lambda)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, 1.0), repeat),
         "elastic (13 lambdas at once, every pass)": median_ms(lambda: elastic.elastic_landmarks(gl, lo, nb, lambdas), repeat),
         "lambda search (13 candidates + DB + the chosen solved)": median_ms(
-            lambda: stages_.elastic_stage(faces, cloner.options, expression, before), repeat
+            lambda: stages_.elastic_stage(faces, cloner.options, expression, before, synthesis), repeat
         ),
+        "  of which E+MD's image at GI (the candidates' source)": median_ms(lambda: synthesis(gl), repeat),
         "  of which DB on given candidates": median_ms(
-            lambda: db_metric.choose_lambda(faces.db_target, mesh, cands, lambdas, source_crop, default_eigenfaces(), DLIB68), repeat
+            lambda: db_metric.choose_lambda(at_gl, mesh, cands, lambdas, source_crop, default_eigenfaces(), DLIB68), repeat
         ),
         "warp (full image)": median_ms(lambda: piecewise.warp(tn_img, mesh.points, dst, mesh.triangles), repeat),
         "ERI (both source photos warped on its grid)": median_ms(

@@ -47,6 +47,7 @@ def on_the_page(url: str, steps: int, editor: bool = False) -> list[float]:
             page.set_input_files("#photo", str(PHOTOS["target_neutral"]))
         else:
             page.goto(url)
+            page.check("#source-photos")  # (the page's default is a built-in expression)
             for field, path in PHOTOS.items():
                 page.set_input_files(f"input[type=file][name={field}]", str(path))
             page.click("#clone")

@@ -4,7 +4,10 @@ The seven methods of the paper's Fig. 11
 
 :func:`exprclone.clone_methods` runs every method of the paper's Fig. 11 on the same three
 photos, computing the stages they share once: the geometry alone (global warping, local
-re-shaping, the elastic model), then each with the expression ratio image, and E+MD.
+re-shaping, the elastic model), then each with the expression ratio image, and E+MD. The figure is
+the paper's, so it is drawn by the paper's stages: ``retarget=False`` (this project's default
+re-expresses the source's smile in the target's own shape, which makes local re-shaping equal to
+global warping and leaves the elastic model nothing to balance).
 """
 
 import matplotlib.pyplot as plt
@@ -15,7 +18,8 @@ from exprclone.evaluation.figures import face_box
 
 source_neutral, source_smile = data.photo("126"), data.photo("126", "smile")
 target_neutral = data.photo("001")
-results = exprclone.clone_methods(source_neutral, source_smile, target_neutral)
+paper = exprclone.Options(retarget=False)
+results = exprclone.clone_methods(source_neutral, source_smile, target_neutral, options=paper)
 
 # %%
 # Every result cropped alike, around the target's face, and the source's smile last (the

@@ -1,4 +1,5 @@
-"""Changes between two photos that are no expression: a lock of hair, a light that moved (the ERI's and fidelity tests)."""
+"""Changes between two photos that are no expression: a lock of hair (the ERI's and fidelity tests; a light that moved,
+and the other changes of light, are :mod:`exprclone.testing.lighting`'s)."""
 
 import cv2
 import numpy as np
@@ -13,10 +14,3 @@ def lock_of_hair(image: np.ndarray, centre, radius: float, colour=(70, 50, 38)) 
     strands = cv2.GaussianBlur(strands, (0, 0), 1)[..., None] / 0.3  # about -1..1 across the strands
     hair = np.array(colour, np.float32) * (1 + np.clip(strands, -1, 1) / 3)
     return np.clip(image * (1 - disc) + hair * disc + 0.5, 0, 255).astype(np.uint8)
-
-
-def lit_from_the_side(image: np.ndarray, landmarks: np.ndarray) -> np.ndarray:
-    """``image`` 30% brighter from one ear (landmark 0) to the other (16), as if the light had moved."""
-    x = np.arange(image.shape[1], dtype=np.float32)
-    gain = 0.85 + 0.3 * np.clip((x - landmarks[0, 0]) / (landmarks[16, 0] - landmarks[0, 0]), 0, 1)
-    return np.clip(image * gain[None, :, None] + 0.5, 0, 255).astype(np.uint8)

@@ -13,6 +13,7 @@ import contextlib
 import io
 import json
 import os
+import re
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -165,3 +166,33 @@ def study_folder(made_study, tmp_path) -> Path:
     import shutil
 
     return Path(shutil.copytree(made_study, tmp_path / "study"))
+
+
+#: the paper's words and symbols, which a page for a person keeps under its "Advanced" fold (the options of
+#: :data:`exprclone.options.ADVANCED`): acronyms as written, words in any case.
+PAPER_ACRONYMS = ("DB", "ERI", "GI", "LI", "RBF", "TPS", "VTC", "E+MD")
+PAPER_WORDS = (
+    "λ",
+    "lambda",
+    "global warp",
+    "image warp",
+    "elastic",
+    "similarity",
+    "piecewise",
+    "affine",
+    "thin-plate",
+    "eigenface",
+    "jacobian",
+    "landmark",
+    "muscle",
+    "Fig.",
+    "Eq.",
+    "dlib",
+    "MediaPipe",
+)
+
+
+def paper_terms(text: str) -> list[str]:
+    """The paper's words and symbols (:data:`PAPER_ACRONYMS`, :data:`PAPER_WORDS`) that ``text`` uses."""
+    found = [a for a in PAPER_ACRONYMS if re.search(rf"(?<![\w+]){re.escape(a)}(?![\w+])", text)]
+    return found + [w for w in PAPER_WORDS if w.lower() in text.lower()]

@@ -8,12 +8,13 @@ import argparse
 import json
 
 import pytest
+from conftest import paper_terms
 from fastapi import Depends, FastAPI
 from fastapi.testclient import TestClient
 
 from exprclone.cli.inputs import add_options, options_of
 from exprclone.errors import ExprCloneError
-from exprclone.options import RENDER, SECTIONS, VALUES, Driving, Framing, Options, from_json, from_text, key, names, offered, spec
+from exprclone.options import ADVANCED, RENDER, SECTIONS, VALUES, Driving, Framing, Options, from_json, from_text, key, names, offered, spec
 from exprclone.server.app import add_error_answers
 from exprclone.server.forms import Asked, options_form
 
@@ -177,3 +178,48 @@ def test_a_page_offers_the_values_allowed_in_words(cls, name):
     for value in offered_values:
         assert from_text(cls, {key(cls, name): value}) is not None and all(c.label for c in page.offered())
     assert page.follows is None or page.follows in names(cls)
+
+
+def every_flag():
+    """Every flag of every ``exprclone`` command (studies' subcommands too): ``(command, action)``."""
+    from exprclone.cli.main import build_parser
+
+    found, parsers = [], [("exprclone", build_parser())]
+    while parsers:
+        name, parser = parsers.pop()
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                parsers += [(f"{name} {word}", sub) for word, sub in action.choices.items()]
+            else:
+                found += [(name, action)] if action.option_strings else []
+    return found
+
+
+def test_every_no_flag_of_every_command_says_what_giving_it_does():
+    """Each ``--no-X`` of every command turns an option declared on off, and its help is that option's ``flag_help``
+    (what giving the flag does), never the option's own help (what it does when on): ``--no-mouth`` read "paste the
+    source's mouth interior" once."""
+    negative = [(name, a) for name, a in every_flag() if any(o.startswith("--no-") for o in a.option_strings)]
+    assert {a.option_strings[0] for _, a in negative} >= {"--no-mouth", "--no-retarget", "--no-smooth"}, negative
+    for name, action in negative:
+        cls = next(c for c in VALUES if action.dest in names(c))  # (a --no-X of no option would fail here)
+        option = spec(cls, action.dest)
+        assert isinstance(action, argparse._StoreFalseAction) and getattr(cls(), action.dest) is True, (name, action.option_strings)
+        assert option.flag_help and action.help == option.flag_help and action.help != option.help, (name, action.option_strings)
+        on = option.help.split(";")[0].split(":")[0]  # what the option does when on, in its help's first words
+        assert not action.help.startswith(on), (name, action.help)
+
+
+def test_the_papers_words_are_only_in_the_advanced_sections():
+    """An option whose page words (its label, sentence, or a choice's) use the paper's words or symbols (lambda_k, GI,
+    a global warp...) sits in a section a page folds away as advanced; and the rule sees the words it is about."""
+    assert paper_terms("Balance λk") and paper_terms("Global warp") and paper_terms("(g) E+MD") and not paper_terms("Whole expression")
+    for cls, name in declared():
+        page = spec(cls, name).page
+        if page is None:
+            continue
+        words = " ".join([page.label, page.sentence, *(f"{c.label} {c.sentence}" for c in page.offered())])
+        if paper_terms(words):
+            assert page.section in ADVANCED, (name, paper_terms(words))
+    advanced = {n for cls, n in declared() if spec(cls, n).page and spec(cls, n).page.section in ADVANCED}
+    assert {"method", "lambda_k", "global_warp", "image_warp", "landmarker", "retarget", "lambda_per_frame"} <= advanced

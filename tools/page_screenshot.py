@@ -22,6 +22,7 @@ server = Server("--workers", "1")
 try:
     with chromium() as page:
         page.goto(server.url)
+        page.check("#source-photos")  # the expression of the sample's source, from its two photos
         page.click("#samples")
         page.wait_for_function("document.querySelector('[data-field=target_neutral] img').naturalWidth > 0")
         page.wait_for_timeout(1500)  # the landmarks of the three photos

@@ -3,6 +3,7 @@
     python tools/results.py evaluate [EVALUATE ARGS...]   # runs exprclone evaluate, keeps its report
     python tools/results.py bench NAME [BENCHMARK ARGS...] # runs benchmarks/NAME.py, keeps what it prints
     python tools/results.py judges [JUDGES ARGS...]        # runs tools/video_judges.py, keeps what it prints
+    python tools/results.py split [SPLIT ARGS...]          # runs tools/identity_split.py, keeps what it prints
     python tools/results.py render                         # the pages from what was kept
 
 ``evaluate``, ``bench`` and ``judges`` run their command (in this interpreter, from the repository's
@@ -19,6 +20,7 @@ Example (the run behind the published pages)::
     python tools/results.py bench video --repeat 3
     python tools/results.py bench serve --scheduler --requests 60
     python tools/results.py judges --jobs 2
+    python tools/results.py split --pairs 80 --jobs 2
 """
 
 from __future__ import annotations
@@ -150,7 +152,8 @@ def _summary_table(summary: list[dict]) -> list[str]:
     from exprclone.evaluation.report import cells
 
     header = ["method", "pairs", "failed", "landmark error, mean / median", "mouth, mean / median", "mouth minus global, paired"]
-    header += ["eyes and brows, mean / median", "identity, mean / median", "same person", "teeth: source shows", "teeth: source shows none"]
+    header += ["eyes and brows, mean / median", "identity, mean / median", "same person", "identity beyond a real smile as wide"]
+    header += ["teeth: source shows", "teeth: source shows none"]
     header += ["judged smiling", "shadow warmth, median [95% interval]", "grey shadows"]
     return _list_table(header, [[f"``{s['method']}``", *cells(s)] for s in summary])
 
@@ -217,7 +220,10 @@ def render_evaluation() -> str | None:
         "  alignment, in outer-eye-corner distances; overall, the mouth, the eyes and brows;",
         "- **mouth minus global, paired**: the method's mouth error minus global warping's on the same pair (in the same",
         "  variant), with its standard error;",
-        "- **identity**: dlib's face-descriptor distance to the target's neutral photo (the same person below 0.6);",
+        "- **identity**: dlib's face-descriptor distance to the target's neutral photo (the same person below 0.6), and its",
+        "  excess over a real smile as wide: the line of identity against the mouth's widening fitted on the targets' own",
+        "  real smiles, each result's distance above it (its mean, with a bootstrap interval; a clone that smiled less",
+        "  would not gain there);",
         "- **teeth**: of the pairs whose source's smile shows teeth, the share of results that show teeth; of the others,",
         "  the share that show teeth all the same;",
         "- **judged smiling**: the share of results that an expression judge (a classifier on the landmarks, trained",
@@ -281,8 +287,29 @@ def render_evaluation() -> str | None:
         ]
         text += ["   E+MD's best, median and worst pairs by mouth error, and the median pair whose source shows teeth: the source's"]
         text += ["   smile, the target's neutral photo, the result, the target's real smile, and their mouths close up.", ""]
-    (PAGES / "evaluation.rst").write_text("\n".join(text))
+    (PAGES / "evaluation.rst").write_text("\n".join(text + _split_section()))
     return _headline(summaries, meta)
+
+
+def _split_section() -> list[str]:
+    """The identity split (``tools/identity_split.py``) as kept, under the scores: where a clone stops looking like its
+    target, its shape's part and its shading's."""
+    output = KEPT / "split" / "identity_split.txt"
+    if not output.exists():
+        return []
+    text = ["", "Where a clone stops looking like its target", "-------------------------------------------", ""]
+    text += _facts(json.loads(output.with_suffix(".json").read_text()))
+    text += [
+        "Each result's identity distance against a real smile *as wide as itself* (the line over the targets' own real",
+        "smiles), on pairs held out from what the clones learnt: the clone as made (``e+md``), the source's motion without",
+        "shading (``global``), the target's own real smile's landmarks given as GI with the source's shading and teeth, without",
+        "the teeth, and without shading, and each target's own smile cloned onto itself (``self``); the excess's mean with a",
+        "95% bootstrap interval (the rows of ``../shared/notes/identity.md``).",
+        "",
+        "::",
+        "",
+    ]
+    return text + ["   " + line if line.strip() else "" for line in output.read_text().splitlines()] + [""]
 
 
 def _headline(summaries: dict[str, list[dict]], meta: dict) -> str:
@@ -293,15 +320,18 @@ def _headline(summaries: dict[str, list[dict]], meta: dict) -> str:
     lines = [
         f"`{meta['command']}` ({meta['date']}, exprclone {meta['version']}):",
         "",
-        "| method | mouth error, all pairs | mouth error, broad smiles | identity distance | shows teeth when the source does"
-        " | shadow warmth: median (results with shadows) |",
-        "|---|---|---|---|---|---|",
+        "| method | mouth error, all pairs | mouth error, broad smiles | identity distance | identity beyond a real smile as wide"
+        " | shows teeth when the source does | shadow warmth: median (results with shadows) |",
+        "|---|---|---|---|---|---|---|",
     ]
     for name in shown:
         s, b = every[name], broad[name]
         teeth = f"{100 * s['teeth_kept']:.0f}%" if s["teeth_sources"] else "-"
         warmth = f"{s['warmth']:.2f} ({s['warmth_n']})" if s["warmth_n"] else "-"
-        lines.append(f"| {name} | {s['mouth_mean']:.4f} | {b['mouth_mean']:.4f} | {s['identity_mean']:.3f} | {teeth} | {warmth} |")
+        excess = "-" if s["excess"] != s["excess"] else f"{s['excess']:+.3f}"
+        lines.append(
+            f"| {name} | {s['mouth_mean']:.4f} | {b['mouth_mean']:.4f} | {s['identity_mean']:.3f} | {excess} | {teeth} | {warmth} |"
+        )
     return "\n".join(lines)
 
 
@@ -387,6 +417,8 @@ def main(argv: list[str]) -> None:
         collect_bench(argv[1], argv[2:])
     elif what == "judges":
         _collect_printed(ROOT / "tools" / "video_judges.py", argv[1:], KEPT / "judges")
+    elif what == "split":
+        _collect_printed(ROOT / "tools" / "identity_split.py", argv[1:], KEPT / "split")
     elif what in ("-h", "--help"):
         print(__doc__)
         return

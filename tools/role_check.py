@@ -1,18 +1,26 @@
-"""How well :mod:`exprclone.pipeline.role_check` tells photos given in the wrong boxes, on the London Set (72 people).
+"""How well :mod:`exprclone.pipeline.role_check` tells photos given in the wrong boxes: on the London Set (72 people),
+on its photos made grey, relit or given another white balance, and on GRID's speakers.
 
 For every person i, with j the next person in the set's order as the target (and as the other person): the right
 order (i's neutral, i's smile, j's neutral), every other order of those three photos, and two people as the source
-(i's neutral with each of the next ``--others`` people's smiles). It prints how often each is flagged, and for the
-orders that swap the target's photo with one of the source's, how often the warning names those two boxes. The
-mean neutral face and the smile's direction are learnt without the person judged (leave-one-out), so every rate
-is measured on a person they never saw; the bounds of the module are fixed numbers (the descriptors' is dlib's),
-and the rates are printed for each half of the set (even and odd places) too.
+(i's neutral with each of the next ``--others`` people's smiles). Then each change of light of :mod:`exprclone.testing.lighting`
+(grey, relit by +-15% from one ear to the other either way, a warm and a cool white balance): the right order with the
+smile changed, with both source photos changed, and the two swapped, both changed; the landmarks found afresh on every
+changed photo, as the door finds them. Then every GRID clip (``--grid``): its most closed frame as the neutral face
+(:func:`exprclone.drive.driver.closed_mouth_frame`) and each frame whose mouth opens at least half as far as the clip
+opens it most as the expression, in the right order and swapped. It prints how often each is flagged, and for the
+orders that swap the target's photo with one of the source's, how often the warning names those two boxes. The mean
+neutral face and the scores at rest are learnt without the person judged (leave-one-out; for GRID, from all 72), so
+every rate is measured on a person they never saw; the rates are printed for each half of the set (even and odd
+places) too.
 
-    PYTHONPATH=src python tools/role_check.py [--data ../shared/data/london] [--write-template]
+    PYTHONPATH=src python tools/role_check.py [--data ../shared/data] [--write-template] [--noise]
 
 ``--write-template`` first writes ``src/exprclone/data/neutral_face.json``: the mean of the 72 neutral faces'
-detected landmarks (:data:`exprclone.pipeline.role_check.NEUTRAL_FACE`) and the smile's direction learnt on all of
-them (:data:`~exprclone.pipeline.role_check.SMILE`).
+detected landmarks (:data:`exprclone.pipeline.role_check.NEUTRAL_FACE`) and their blendshape scores' mean and spread
+(:data:`~exprclone.pipeline.role_check.REST`). ``--noise`` prints how far each of the check's three views moves when a
+photo is only made grey, relit or rebalanced (the standard deviation over the set's 144 photos and the five
+changes): :data:`~exprclone.pipeline.role_check.MARGINS`.
 """
 
 import argparse
@@ -22,15 +30,18 @@ from pathlib import Path
 import numpy as np
 
 from exprclone.data import sets as datasets
+from exprclone.drive.driver import closed_mouth_frame
+from exprclone.errors import ExprCloneError
 from exprclone.io.images import load_image
+from exprclone.io.video import read_frames
 from exprclone.landmarks import align
 from exprclone.landmarks.backends import default_detector
 from exprclone.landmarks.layout import DLIB68
+from exprclone.mouth import measure
 from exprclone.pipeline import role_check
+from exprclone.testing.lighting import changes
 
 TEMPLATE = Path(__file__).resolve().parents[1] / "src" / "exprclone" / "data" / "neutral_face.json"
-#: the ridge regression's weight on the smile direction's norm (the even half's leave-one-out errors are fewest at it).
-RIDGE = 0.03
 #: the orders of (i's neutral, i's smile, j's neutral) judged, as the three boxes take them, and the boxes a warning
 #: should name as swapped (None: any warning will do).
 ORDERS = {
@@ -41,19 +52,48 @@ ORDERS = {
     "all three turned (target first)": ((2, 0, 1), None),
     "all three turned (smile first)": ((1, 2, 0), None),
 }
+#: a GRID frame is an expression when its mouth opens at least this share of the clip's widest opening.
+OPEN = 0.5
+Photos = dict[tuple[str, str, str], role_check.Face]
 
 
-def load(data: Path) -> tuple[list[str], dict[str, role_check.Face]]:
-    """Every person's neutral (``ID_n``) and smiling (``ID_s``) photo with its detected landmarks."""
+def face(image: np.ndarray, name: str) -> role_check.Face:
+    """The role check's view of a photo, its landmarks found as the door finds them."""
+    return role_check.Face.of(image, default_detector().detect(image, name), DLIB68)
+
+
+def load(data: Path) -> tuple[list[str], Photos]:
+    """Every person's neutral (``n``) and smiling (``s``) photo, as it is (``as is``) and changed by each change of
+    light (:mod:`exprclone.testing.lighting`), by (person, kind, change)."""
     people = sorted(p.stem[:3] for p in (data / "neutral_front").glob("*_03.jpg"))
     if not people:
         raise SystemExit(f"no London Set photos in {data}/neutral_front (give --data)")
-    photos = {}
+    photos: Photos = {}
     for i in people:
         for kind, path in (("n", data / "neutral_front" / f"{i}_03.jpg"), ("s", data / "smiling_front" / f"{i}_08.jpg")):
-            image = load_image(path)
-            photos[f"{i}_{kind}"] = role_check.Face.of(image, default_detector().detect(image, str(path)), DLIB68)
+            photos[i, kind, "as is"] = original = face(load_image(path), str(path))
+            for change, image in changes(original.image, original.points).items():
+                photos[i, kind, change] = face(image, f"{path} ({change})")
     return people, photos
+
+
+def grid_pairs(folder: Path) -> dict[str, list[tuple[role_check.Face, role_check.Face]]]:
+    """Each GRID clip's (closed frame, open frame) pairs (the module's notes), by clip."""
+    out = {}
+    for clip in sorted(folder.glob("*.mpg")):
+        seen = []
+        for k, frame in enumerate(read_frames(clip)):
+            try:
+                seen.append(face(frame, f"{clip.name} frame {k}"))
+            except ExprCloneError:  # no face found in the frame
+                seen.append(None)
+        usable = np.array([f is not None for f in seen])
+        points = np.array([f.points if f is not None else np.zeros((68, 2)) for f in seen])
+        opening = np.array([measure.opening(p, DLIB68) if ok else -1.0 for p, ok in zip(points, usable)])
+        closed = seen[closed_mouth_frame(points, usable, DLIB68)]
+        assert closed is not None
+        out[clip.stem] = [(closed, f) for f, o in zip(seen, opening) if f is not None and o >= OPEN * opening.max()]
+    return out
 
 
 def mean_face(shapes: list[np.ndarray]) -> np.ndarray:
@@ -67,54 +107,107 @@ def mean_face(shapes: list[np.ndarray]) -> np.ndarray:
     return mean
 
 
-def learn(people: list[str], photos: dict[str, role_check.Face]) -> tuple[np.ndarray, np.ndarray]:
-    """The mean neutral face of ``people`` and the direction their smiles move the moving landmarks from it: ``w``
-    minimising ``sum (1 - w d)^2 + RIDGE |w|^2`` over each person's motion ``d`` (smile minus neutral)."""
-    role_check.NEUTRAL_FACE = mean_face([photos[f"{i}_n"].points for i in people])
-    moved = {key: role_check.moving(photos[key].points, DLIB68).ravel() for i in people for key in (f"{i}_n", f"{i}_s")}
-    motion = np.array([moved[f"{i}_s"] - moved[f"{i}_n"] for i in people])
-    direction = np.linalg.solve(motion.T @ motion + RIDGE * np.eye(motion.shape[1]), motion.sum(0))
-    return role_check.NEUTRAL_FACE, direction
+def learn(people: list[str], photos: Photos) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    """The mean neutral face of ``people`` and their neutral photos' expression scores' mean and spread (the standard
+    deviation and :data:`~exprclone.pipeline.role_check.REST_FLOOR` in quadrature), set in the module as it uses them."""
+    role_check.NEUTRAL_FACE = mean_face([photos[i, "n", "as is"].points for i in people])
+    rest = np.array([photos[i, "n", "as is"].scores[role_check.EXPRESSION] for i in people])
+    role_check.REST = rest.mean(0), np.sqrt(rest.var(0) + role_check.REST_FLOOR**2)
+    return role_check.NEUTRAL_FACE, role_check.REST
 
 
-def judged(people: list[str], photos: dict[str, role_check.Face], others: int) -> dict[str, list[tuple[int, bool, bool]]]:
+def flagged(neutral: role_check.Face, expression: role_check.Face, target: role_check.Face | None = None) -> list[str]:
+    return role_check.judge_roles(neutral, expression, DLIB68, target)
+
+
+def judged(people: list[str], photos: Photos, others: int) -> dict[str, list[tuple[int, bool, bool]]]:
     """For each kind of mistake, (the person's place, whether it was flagged, whether the warning named the right boxes)."""
-    out: dict[str, list[tuple[int, bool, bool]]] = {kind: [] for kind in [*ORDERS, "two people"]}
+    out: dict[str, list[tuple[int, bool, bool]]] = {}
+    lit = sorted({c for _, _, c in photos} - {"as is"})
     for k, i in enumerate(people):
-        role_check.NEUTRAL_FACE, role_check.SMILE = learn([j for j in people if j != i], photos)  # leave-one-out
+        learn([j for j in people if j != i], photos)  # leave-one-out
         j = people[(k + 1) % len(people)]
-        three = (photos[f"{i}_n"], photos[f"{i}_s"], photos[f"{j}_n"])
+        three = (photos[i, "n", "as is"], photos[i, "s", "as is"], photos[j, "n", "as is"])
         for kind, (order, named) in ORDERS.items():
-            said = role_check.judge_roles(three[order[0]], three[order[1]], DLIB68, three[order[2]])
-            out[kind].append((k, bool(said), bool(said) and (named is None or named in said[0])))
+            said = flagged(three[order[0]], three[order[1]], three[order[2]])
+            out.setdefault(kind, []).append((k, bool(said), bool(said) and (named is None or named in said[0])))
         for other in (people[(k + d) % len(people)] for d in range(1, others + 1)):
-            said = role_check.judge_roles(photos[f"{i}_n"], photos[f"{other}_s"], DLIB68, photos[f"{j}_n"])
-            out["two people"].append((k, bool(said), bool(said)))
+            said = flagged(photos[i, "n", "as is"], photos[other, "s", "as is"], photos[j, "n", "as is"])
+            out.setdefault("two people", []).append((k, bool(said), bool(said)))
+        for change in lit:
+            n, s = photos[i, "n", change], photos[i, "s", change]
+            for kind, pair in (
+                (f"right order, smile {change}", (three[0], s)),
+                (f"right order, both {change}", (n, s)),
+                (f"swapped, both {change}", (s, n)),
+            ):
+                said = flagged(*pair, three[2])
+                out.setdefault(kind, []).append((k, bool(said), bool(said)))
     return out
+
+
+def noise(people: list[str], photos: Photos) -> None:
+    """How far each view of the check moves with the light alone (:data:`~exprclone.pipeline.role_check.MARGINS`)."""
+    learn(people, photos)
+    moved = []
+    for (i, kind, change), changed in photos.items():
+        if change != "as is":
+            original = photos[i, kind, "as is"]
+            moved.append(
+                (
+                    role_check.rise(original.scores, changed.scores),
+                    role_check.from_rest(original.scores) - role_check.from_rest(changed.scores),
+                    role_check.expressiveness(original.points, DLIB68) - role_check.expressiveness(changed.points, DLIB68),
+                )
+            )
+    spread = np.std(moved, axis=0)
+    print(f"the light alone moves: rise by {spread[0]:.3g}, from_rest by {spread[1]:.3g}, expressiveness by {spread[2]:.3g}")
+    print(f"(standard deviations over {len(moved)} changed photos; the margins used: {role_check.MARGINS})")
+
+
+def report(kind: str, rows: list[tuple[int, bool, bool]]) -> None:
+    flags = np.array([f for _, f, _ in rows])
+    named = np.array([n for _, _, n in rows])
+    halves = [np.mean([f for k, f, _ in rows if k % 2 == h]) for h in (0, 1)]
+    print(
+        f"{kind:34s} flagged {flags.sum():3d} of {len(flags):3d} ({flags.mean():5.1%}; even half {halves[0]:5.1%},"
+        f" odd half {halves[1]:5.1%})" + ("" if ORDERS.get(kind, (0, None))[1] is None else f", its boxes named {named.mean():5.1%}")
+    )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    datasets.add_argument(parser, "london", holds="the London Set folder")
+    datasets.add_argument(parser, holds="the data folder (london/ and grid/)")
     parser.add_argument("--others", type=int, default=5, help="other people's smiles per person (default: 5)")
-    parser.add_argument("--write-template", action="store_true", help="write the mean neutral face and the smile's direction first")
+    parser.add_argument("--write-template", action="store_true", help="write the mean neutral face and the scores at rest first")
+    parser.add_argument("--noise", action="store_true", help="print how far the light alone moves each view")
+    parser.add_argument("--no-grid", dest="grid", action="store_false", help="leave GRID's clips out")
     args = parser.parse_args()
-    people, photos = load(args.data)
+    people, photos = load(args.data / "london")
     if args.write_template:
-        face, direction = learn(people, photos)
-        document = {"people": len(people), "landmarks": np.round(face, 5).tolist(), "smile": np.round(direction, 5).tolist()}
+        face_, (mean, spread) = learn(people, photos)
+        document = {
+            "people": len(people),
+            "landmarks": np.round(face_, 5).tolist(),
+            "rest_mean": np.round(mean, 5).tolist(),
+            "rest_spread": np.round(spread, 5).tolist(),
+        }
         TEMPLATE.write_text(json.dumps(document) + "\n")
         print(f"wrote {TEMPLATE}")
-    print(f"bounds: SURELY_SAME {role_check.SURELY_SAME}, SAME_PERSON {role_check.SAME_PERSON}, MIN_SWAP {role_check.MIN_SWAP},")
-    print(f"GATE {role_check.GATE}, RIDGE {RIDGE}; each person judged with the face and smile learnt without them")
+    if args.noise:
+        noise(people, photos)
+    print(f"bounds: SURELY_SAME {role_check.SURELY_SAME}, SAME_PERSON {role_check.SAME_PERSON}, MARGINS {role_check.MARGINS},")
+    print(
+        f"TOP {role_check.TOP}, REST_FLOOR {role_check.REST_FLOOR}; each person judged with the face and scores at rest learnt without them"
+    )
     for kind, rows in judged(people, photos, args.others).items():
-        flags = np.array([f for _, f, _ in rows])
-        named = np.array([n for _, _, n in rows])
-        halves = [np.mean([f for k, f, _ in rows if k % 2 == h]) for h in (0, 1)]
-        print(
-            f"{kind:34s} flagged {flags.sum():3d} of {len(flags):3d} ({flags.mean():5.1%}; even half {halves[0]:5.1%},"
-            f" odd half {halves[1]:5.1%})" + ("" if ORDERS.get(kind, (0, None))[1] is None else f", its boxes named {named.mean():5.1%}")
-        )
+        report(kind, rows)
+    if args.grid:
+        learn(people, photos)
+        for clip, pairs in grid_pairs(args.data / "grid").items():
+            right = sum(bool(flagged(n, e)) for n, e in pairs)
+            swapped = sum(bool(flagged(e, n)) for n, e in pairs)
+            print(f"GRID {clip:16s} right order flagged {right:2d} of {len(pairs):2d}, swapped flagged {swapped:2d} of {len(pairs):2d}")
 
 
 if __name__ == "__main__":

@@ -13,8 +13,9 @@ import numpy as np
 
 from exprclone import METHODS, clone_methods
 from exprclone.data import sets as datasets
-from exprclone.evaluation.figures import cell, face_box
+from exprclone.evaluation.figures import face_box
 from exprclone.evaluation.london import Dataset
+from exprclone.evaluation.panels import panel
 from exprclone.io.images import load_image, save_image
 from exprclone.landmarks.backends import default_detector
 
@@ -35,15 +36,15 @@ def main() -> None:
         lam = results["e+md"].lambda_k
         crop = lambda image, points: image[face_box(points, image.shape)]  # noqa: E731
         cells = [
-            cell(crop(sn, lm["source_neutral"]), f"A={a} neutral"),
-            cell(crop(se, lm["source_expression"]), f"A={a} smile"),
-            cell(crop(tn, lm["target_neutral"]), f"B={b} neutral"),
+            panel(crop(sn, lm["source_neutral"]), f"A={a} neutral"),
+            panel(crop(se, lm["source_expression"]), f"A={a} smile"),
+            panel(crop(tn, lm["target_neutral"]), f"B={b} neutral"),
         ]
         cells += [
-            cell(crop(results[m].image, lm["target_neutral"]), m + (f" lambda={lam:g}" if m in ("elastic", "e+md") else ""))
+            panel(crop(results[m].image, lm["target_neutral"]), m + (f" lambda={lam:g}" if m in ("elastic", "e+md") else ""))
             for m in METHODS
         ]
-        cells.append(cell(crop(ts, default_detector().detect(ts)), f"B={b} real smile"))
+        cells.append(panel(crop(ts, default_detector().detect(ts)), f"B={b} real smile"))
         rows.append(np.hstack(cells))
         print(f"{a} -> {b}: lambda_k={lam:g}", flush=True)
     save_image(args.output, np.vstack(rows))

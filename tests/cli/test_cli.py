@@ -3,6 +3,7 @@
 import csv
 import json
 import os
+import re
 import subprocess
 import sys
 from dataclasses import replace
@@ -14,6 +15,7 @@ from PIL import Image
 
 import exprclone
 import exprclone.expressions
+from exprclone.evaluation.panels import BAND, CELL, HEIGHT
 from exprclone.expressions.files import write
 
 SN, SE, TN = str(neutral_path("001")), str(smile_path("001")), str(neutral_path("003"))
@@ -30,6 +32,8 @@ def test_clone_writes_image_and_json(london, tmp_path):
     data = json.loads(record.read_text())
     assert data["method"] == "e+md" and len(data["landmarks"]["final"]) == 68
     assert len(data["db_curve"]) > 5 and data["lambda_k"] in [c["lambda_k"] for c in data["db_curve"]]
+    for candidate in data["db_curve"]:  # Eq. 7, its terms as they came: DB = e^to_source + e^to_global
+        assert candidate["db"] == pytest.approx(np.exp(candidate["to_source"]) + np.exp(candidate["to_global"]))
     assert sorted(os.listdir(tmp_path)) == ["out.json", "out.png"]  # no temporary files left
     assert run("clone", SN, SE, TN, "-o", out, "--save-json", record).returncode == 0  # the product's: nothing to choose
     data = json.loads(record.read_text())
@@ -145,14 +149,21 @@ def test_a_mistyped_word_is_one_line_with_the_closest_and_the_commands_help(tmp_
 
 
 def test_compare_draws_the_sheet(london, tmp_path):
+    """Fig. 11's rows by the paper's stages, then the default's; with --no-retarget the paper's alone."""
     out = tmp_path / "panel.png"
     p = run("compare", SN, SE, TN, "-o", out)
     assert p.returncode == 0, p.stderr
-    w, h = Image.open(out).size
-    assert w == 8 * 320 and h == 3 * 320
+    assert Image.open(out).size == (9 * CELL, BAND + 4 * HEIGHT) and "by the paper's stages, lambda_k=" in p.stdout
+    p = run("compare", SN, SE, TN, "-o", out, "--no-retarget")
+    assert p.returncode == 0 and Image.open(out).size == (9 * CELL, BAND + 3 * HEIGHT) and "default" not in p.stdout
 
 
 def test_evaluate_on_two_pairs(london, tmp_path):
+    """The summary a person reads by default: which method is best on each score, with intervals, in a screenful, and
+    where the full tables are; they are in summary.md (after the same summary), and printed with --full, with what every
+    sign of them means."""
+    from exprclone.evaluation.digest import SCORES
+
     out = tmp_path / "report"
     p = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global,e+md", "--out", out)
     assert p.returncode == 0, p.stderr
@@ -160,8 +171,16 @@ def test_evaluate_on_two_pairs(london, tmp_path):
     assert len(rows) == 1 + 2 * 4  # header, then (no change, real, global, e+md) per pair
     summary = (out / "summary.md").read_text()
     assert "| e+md |" in summary and "| no change |" in summary and (out / "gallery.jpg").is_file()
-    assert "| real | 2 | 0 | 0.0000 / 0.0000" in p.stdout
+    assert "## Which method is best on what" in summary and summary.index("best on what") < summary.index("## All pairs")
     assert "| method | results judged | to the source's expression: mouth |" in summary  # the blendshape judge's table
+    said = p.stdout.splitlines()
+    assert len(said) <= 30 and max(len(line) for line in said) <= 120 and "|" not in p.stdout, p.stdout
+    for score in SCORES:
+        assert re.search(rf"^- {re.escape(score.name)} \((lower|higher) is better\): best (global|e\+md)", p.stdout, re.M), score.name
+    assert f"{out / 'summary.md'} (or --full)" in p.stdout
+    full = run("evaluate", "--data", london, "--pairs", "2", "--methods", "global,e+md", "--out", out, "--full")
+    assert "| real | 2 | 0 | 0.0000 / 0.0000" in full.stdout and "Reading the tables: `a / b` is a mean / a median" in full.stdout
+    assert "`-` where there is nothing to measure" in full.stdout and "Reading the tables" in summary
     scores = list(csv.DictReader(open(out / "blendshapes.csv")))
     assert len(scores) == 2 * 4 and float(scores[0]["mouthSmileLeft"]) >= 0 and len(scores[0]) == 3 + 52
 
@@ -224,7 +243,7 @@ def test_compare_draws_figure_19(london, tmp_path):
     out = tmp_path / "fig19.png"
     p = run("compare", SN, SE, TN, "-o", out, "--figure", "19")
     assert p.returncode == 0, p.stderr
-    assert Image.open(out).size == (6 * 320, 320) and "global warp rbf" in p.stdout
+    assert Image.open(out).size == (6 * CELL, HEIGHT) and "global warp rbf" in p.stdout
 
 
 @pytest.mark.parametrize("figure, methods", [("16", 4), ("17", 3)])
@@ -234,7 +253,7 @@ def test_compare_draws_figures_16_and_17(london, tmp_path, figure, methods):
     out = tmp_path / f"fig{figure}.png"
     p = run("compare", SN, SE, TN, "-o", out, "--figure", figure)
     assert p.returncode == 0, p.stderr
-    assert Image.open(out).size == ((methods + 4) * 320, 320) and f"Fig. {figure}, {methods} methods, lambda_k=" in p.stdout
+    assert Image.open(out).size == ((methods + 4) * CELL, HEIGHT) and f"Fig. {figure}, {methods} methods, lambda_k=" in p.stdout
 
 
 def test_figure_17_shows_song_et_als_global_warp_alone(london, tmp_path):
@@ -268,7 +287,8 @@ def test_a_global_landmark_file_with_the_wrong_count(pair, tmp_path):
 
 def test_evaluate_with_variants(london, tmp_path):
     out = tmp_path / "report"
-    p = run("evaluate", "--data", london, "--pairs", "1", "--methods", "global,elastic", "--global-warps", "similarity,rbf", "--out", out)
+    words = ("--pairs", "1", "--methods", "global,elastic", "--global-warps", "similarity,rbf", "--out", out, "--full")
+    p = run("evaluate", "--data", london, *words)
     assert p.returncode == 0, p.stderr
     rows = (out / "pairs.csv").read_text().splitlines()
     assert len(rows) == 1 + 2 + 2 * 2  # header, the references, then two methods in two variants
@@ -335,7 +355,7 @@ def test_clone_one_photo_with_a_built_in_expression(london, tmp_path):
         ([SN, TN, "--expression", "smile"], "--expression: give the target's photo alone"),
         ([TN], "source_neutral: missing: give the source's neutral and expression photos"),
         ([SN, TN], "source_expression: missing"),
-        ([TN, "--expression", "grin"], "--expression: unknown expression 'grin'; the built-in expressions are: angry, sad, smile, smile-001"),
+        ([TN, "--expression", "grin"], "--expression: unknown expression 'grin'; the built-in expressions are: angry, sad, smile"),
         ([TN, "--expression", "smile", "--source-neutral-landmarks", "x.json"], "--source-neutral-landmarks: not with --expression"),
     ],
 )
@@ -347,7 +367,7 @@ def test_compare_with_a_built_in_expression(london, tmp_path):
     out = tmp_path / "sheet.jpg"
     p = run("compare", TN, "--expression", "smile-126", "-o", out)
     assert p.returncode == 0, p.stderr
-    assert Image.open(out).size[0] == 8 * 320
+    assert Image.open(out).size[0] == 9 * CELL
 
 
 def test_evaluate_scores_an_expression_only_on_people_it_was_not_made_from(london, tmp_path):
@@ -399,12 +419,13 @@ def test_serve_refuses_bad_bounds_before_it_starts(flag, value, expected):
 
 
 @pytest.mark.parametrize("words", [("serve",), ("study", "serve", ".")])
-def test_serving_without_the_server_extra_says_what_to_install(monkeypatch, words):
-    """A library install has no FastAPI (the ``server`` extra): the commands that serve say so in one line."""
+def test_serving_without_the_server_packages_says_what_to_install(monkeypatch, words):
+    """An install without its dependencies (``pip install --no-deps``) has no FastAPI: the commands that serve say so
+    in one line."""
     monkeypatch.setitem(sys.modules, "fastapi", None)  # as if it were not installed
     r = run(*words)
     assert r.returncode == 2 and r.stderr.strip() == (
-        "exprclone: error: serve: needs the web server's packages (fastapi is missing): pip install 'exprclone[server]'"
+        "exprclone: error: serve: needs the web server's packages (fastapi is missing): pip install exprclone installs them"
     )
 
 
@@ -442,3 +463,63 @@ def test_evaluate_on_a_folder_of_ones_own(tmp_path):
 def test_evaluate_says_where_it_reads_from_when_the_folder_has_no_people(tmp_path):
     p = run("evaluate", "--data", tmp_path, "--out", tmp_path / "r")
     assert p.returncode == 2 and "neutral/NAME.jpg and expression/NAME.jpg" in p.stderr and len(p.stderr.strip().splitlines()) == 1
+
+
+# --- the messages of issue 55: each one line, saying what a person can do -------------------------------------------
+
+
+@pytest.mark.parametrize("words", [("serve",), ("study", "serve", ".")])
+@pytest.mark.parametrize("port", ["99999", "0", "-1", "http"])
+def test_a_port_out_of_range_is_one_line(words, port):
+    """``--port 99999`` ended in the socket's 60-line traceback; now argparse's one line, before anything starts."""
+    r = run(*words, "--port", port)
+    used = "study serve" if words[0] == "study" else "serve"
+    assert r.returncode == 2 and r.stdout == "" and "Traceback" not in r.stderr, r.stderr
+    said = f"argument --port: expected a port number from 1 to 65535, got '{port}'; see exprclone {used} --help"
+    assert r.stderr.strip() == f"exprclone: error: {said}"
+
+
+def test_a_photo_too_small_for_a_face_says_so_with_the_least_size(london, tmp_path):
+    """A 60x60 photo of a whole face: too small for the landmarker to find it, and said so with the size needed; the same
+    photo at 160 pixels is cloned (so the message is about the size, not the face)."""
+    from exprclone.pipeline.group import MIN_ACROSS
+
+    whole = Image.open(TN)
+    for side in (60, 160):
+        whole.resize((side, side), Image.LANCZOS).save(tmp_path / f"{side}.png")
+    expect_error(
+        tmp_path,
+        [tmp_path / "60.png", "--expression", "smile"],
+        f"{tmp_path / '60.png'}: too small to find a face in (60x60 pixels; at least {MIN_ACROSS} on each side needed)",
+    )
+    assert run("clone", tmp_path / "160.png", "--expression", "smile", "-o", tmp_path / "out.png").returncode == 0
+
+
+@pytest.mark.parametrize(
+    "first, second, why",
+    [
+        (0, 1, "so there is no expression to clone"),
+        (0, 2, "so the source's expression goes back onto its own face"),
+        (1, 2, "so the target already wears the expression"),
+    ],
+)
+def test_the_same_file_given_as_two_photos_is_warned_of(london, tmp_path, first, second, why):
+    roles = ("source_neutral", "source_expression", "target_neutral")
+    photos = [SN, SE, TN]
+    photos[second] = photos[first]
+    r = run("clone", *photos, "-o", tmp_path / "out.png")
+    said = f"exprclone: warning: {roles[second]}: the same photo as {roles[first]}, {why}; is one of them the wrong file?"
+    assert r.returncode == 0 and r.stderr.strip() == said, r.stderr
+
+
+def test_three_different_photos_get_no_such_warning(london, tmp_path):
+    r = run("clone", SN, SE, TN, "-o", tmp_path / "out.png")
+    assert r.returncode == 0 and "the same photo" not in r.stderr, r.stderr
+
+
+@pytest.mark.parametrize("command, listed", [("video", ".mp4, .mov or .mkv"), ("clone", ".png, .jpg, .jpeg, .bmp, .tif, .tiff or .webp")])
+def test_an_unknown_output_type_lists_every_accepted_one(london, grid_clip, tmp_path, command, listed):
+    inputs = [TN, grid_clip] if command == "video" else [SN, SE, TN]
+    r = run(command, *inputs, "-o", tmp_path / "out.gif")
+    assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
+    assert f"unknown output format '.gif' (use {listed}" in r.stderr, r.stderr

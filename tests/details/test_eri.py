@@ -1,12 +1,13 @@
 import cv2
 import numpy as np
 import pytest
-from changes import lit_from_the_side, lock_of_hair
+from changes import lock_of_hair
 
 from exprclone.details import coarse, eri, gate
 from exprclone.imaging import piecewise, raster
 from exprclone.landmarks import align
 from exprclone.landmarks.layout import DLIB68
+from exprclone.testing.lighting import relit
 
 
 def expression_ratio(neutral_warped, expression_warped, mask, iod, target=None, exempt=None):
@@ -159,7 +160,7 @@ def face_frame(pair):
 
 def test_a_light_that_moved_across_the_face_is_not_expression(pair):
     target, lm, mask, iod = face_frame(pair)
-    lit = lit_from_the_side(target, lm)  # 30% brighter from ear to ear
+    lit = relit(target, lm)  # 30% brighter from ear to ear
     ratio = expression_ratio(target, lit, mask, iod)
     assert np.abs(ratio - 1).max() < 0.01
     # a median ratio of 1 would have left the tilt: +-15% across the face

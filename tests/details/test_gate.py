@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from changes import lit_from_the_side, lock_of_hair
+from changes import lock_of_hair
 
 import exprclone
 from exprclone.details import eri, gate
@@ -10,6 +10,7 @@ from exprclone.evaluation.scores import material_swaps
 from exprclone.landmarks import align
 from exprclone.landmarks.layout import DLIB68
 from exprclone.pipeline.cloner import Cloner
+from exprclone.testing.lighting import relit
 
 
 def forehead_spots(landmarks):
@@ -24,7 +25,7 @@ def changes(photo):
     (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("001"), photo("001", "smile"), photo("003")
     a, b, radius = forehead_spots(sn_lm)
     return {
-        "light": (sn, lit_from_the_side(sn, sn_lm)),
+        "light": (sn, relit(sn, sn_lm)),
         "hair": (lock_of_hair(sn, a, radius), lock_of_hair(sn, b, radius)),  # a lock that moved
     }, (sn, sn_lm, se, se_lm, tn, tn_lm)
 
@@ -44,7 +45,7 @@ def test_a_change_that_is_no_expression_leaves_a_real_smile_alone(changes, chang
     """With a real smile, the same change to both of the source's photos changes nothing of the clone's shading."""
     photos, (sn, sn_lm, se, se_lm, tn, tn_lm) = changes
     if change == "light":  # the smile photo lit from the side
-        neutral, smile = sn, lit_from_the_side(se, se_lm)
+        neutral, smile = sn, relit(se, se_lm)
     else:  # a lock of hair on the neutral photo's forehead, moved on the smile photo's
         a, _, radius = forehead_spots(sn_lm)
         _, b, _ = forehead_spots(se_lm)

@@ -79,6 +79,41 @@ def test_teeth_covered_with_lip_colour_stop_counting(photo):
     assert teeth(whole, landmarks, DLIB68) == 0
 
 
+def test_yellow_teeth_as_saturated_as_the_lips_still_count(photo):
+    """Teeth are told by being brighter than the lips and far less red, not by being paler: a smile's teeth made as
+    saturated as its lips but yellow (a dull pasted mouth's, a smoker's) still show; made as red as the lips, they do not.
+    (The paste's saturation rule read 0 for the yellow ones.)"""
+    image, landmarks = photo("107", "smile")
+    inner, outer = (np.zeros(image.shape[:2], np.uint8) for _ in range(2))
+    cv2.fillPoly(inner, [np.round(landmarks[list(DLIB68.mouth_inner)]).astype(np.int32)], 1)
+    cv2.fillPoly(outer, [np.round(landmarks[list(DLIB68.mouth_outer)]).astype(np.int32)], 1)
+    hsv, lightness = cv2.cvtColor(image, cv2.COLOR_RGB2HSV), cv2.cvtColor(image, cv2.COLOR_RGB2Lab)[..., 0]
+    lips = (outer > 0) & (inner == 0)
+    lip = np.median(hsv[lips], axis=0)  # the lips' hue, saturation and value
+    bright = (inner > 0) & (lightness > np.median(lightness[lips]))  # the teeth, and what else is lighter than the lips
+    before = teeth(image, landmarks, DLIB68)
+    painted = {}
+    for name, hue in (("yellow", 25), ("red", lip[0])):  # (OpenCV's hue, 0-180: 25 is a yellow, the lips' a red)
+        recoloured = hsv.copy()
+        recoloured[bright, 0], recoloured[bright, 1] = hue, lip[1]
+        painted[name] = teeth(cv2.cvtColor(recoloured, cv2.COLOR_HSV2RGB), landmarks, DLIB68)
+    assert before >= TEETH_SHOWN and painted["yellow"] >= 0.8 * before and painted["red"] < TEETH_SHOWN, (before, painted)
+
+
+@pytest.mark.parametrize("source, target, shown", [("107", "024", True), ("063", "043", True), ("003", "126", False)])
+def test_the_judge_reads_clones_teeth_as_the_eye_does(london_full, source, target, shown):
+    """Clones of ``exprclone evaluate``'s gallery whose teeth are plainly visible (107 onto 024, 063 onto 043: the judge
+    read 0.000 and 0.001 there) show teeth; a clone whose closed lips are glossy (003 onto 126, of the samples) does not."""
+    from exprclone.evaluation.runner import JUDGE, clone_pair, photo
+    from exprclone.landmarks.backends import shared
+
+    data = Dataset.open(london_full)
+    paths = (data.path(source, False), data.path(source, True), data.path(target, False))
+    result = clone_pair(data, (source, target), ("e+md",), {p: shared(JUDGE).detect(photo(p)) for p in paths})["e+md"]
+    score = teeth(result.image, shared(JUDGE).detect(result.image), DLIB68)
+    assert (score >= TEETH_SHOWN) == shown, score
+
+
 def test_summary_counts_failures_and_never_drops_them():
     def row(method, pair, mouth, failed="", smile=0.05):
         score = "" if failed else mouth

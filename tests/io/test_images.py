@@ -185,6 +185,17 @@ def _tiny_png(tmp_path: Path, photo_path: Path) -> Path:
     return path
 
 
+def _header_of_108_megapixels(tmp_path: Path, photo_path: Path) -> Path:
+    """The sample photo with its JPEG header saying 12000x9000 pixels (a phone's 108 megapixels): decoding it would take
+    324 MB before finding the data short; its size is refused from the header first."""
+    data = bytearray(photo_path.read_bytes())
+    frame = data.index(b"\xff\xc0")  # the start of the frame: its length, precision, then height and width
+    data[frame + 5 : frame + 9] = (9000).to_bytes(2, "big") + (12000).to_bytes(2, "big")
+    path = tmp_path / "huge.jpg"
+    path.write_bytes(bytes(data))
+    return path
+
+
 @pytest.mark.parametrize(
     ("make", "problem"),
     [
@@ -193,6 +204,7 @@ def _tiny_png(tmp_path: Path, photo_path: Path) -> Path:
         (_text_as_jpeg, "not an image"),
         (_truncated_jpeg, "corrupt or truncated"),
         (_tiny_png, "too small"),
+        (_header_of_108_megapixels, "image is too large (12000x9000 pixels; at most 89.4785 megapixels)"),
     ],
 )
 def test_bad_input_raises_a_one_line_error_naming_the_file(make, problem, tmp_path, photo_path) -> None:
@@ -319,3 +331,31 @@ def test_wrong_array_is_a_programming_error(tmp_path: Path, bad: np.ndarray) -> 
     with pytest.raises(ValueError):
         save_image(tmp_path / "out.png", bad)
     assert os.listdir(tmp_path) == []
+
+
+#: what a process does with a FIFO given as each kind of input file (each would wait for a writer for ever, if opened).
+FIFO_READS = """
+import sys
+from exprclone.errors import ExprCloneError
+from exprclone.io.images import load_image
+from exprclone.io.landmarks import read_landmarks
+from exprclone.io.video import probe
+for read in (load_image, lambda p: read_landmarks(p, (100, 100)), probe):
+    try:
+        read(sys.argv[1])
+    except ExprCloneError as e:
+        print(e)
+"""
+
+
+def test_a_fifo_is_refused_at_the_door_not_waited_on(tmp_path: Path) -> None:
+    """A photo, a landmark file or a video that is a FIFO (nothing writes to it): one line each, at once (in a process of
+    its own, so that a wait fails the test rather than hang it)."""
+    import subprocess
+    import sys
+
+    fifo = tmp_path / "photo.json"
+    os.mkfifo(fifo)
+    done = subprocess.run([sys.executable, "-c", FIFO_READS, str(fifo)], capture_output=True, text=True, timeout=60)
+    said = f"{fifo}: not a regular file (a FIFO, a socket or a device): give a file"
+    assert done.stdout.splitlines() == [said] * 3, done

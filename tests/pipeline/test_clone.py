@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import exprclone
+from exprclone.errors import ExprCloneWarning
 from exprclone.geometry import elastic, global_warp, local_warp, vtc
 from exprclone.imaging import piecewise, warpers
 from exprclone.landmarks import align, lips
@@ -73,9 +74,11 @@ def test_fixed_lambda(pair):
     assert r.lambda_k == 2.0 and r.db_curve is None
 
 
+@pytest.mark.filterwarnings("ignore:source_expression. the same photo as source_neutral")
 def test_no_expression_leaves_the_target_as_it_was(pair):
     (sn, _, target), (sn_lm, _, tn_lm) = pair
-    r = exprclone.clone(sn, sn, target, method="global+eri", landmarks=(sn_lm, sn_lm, tn_lm))
+    with pytest.warns(ExprCloneWarning, match="source_expression: the same photo as source_neutral, so there is no expression"):
+        r = exprclone.clone(sn, sn, target, method="global+eri", landmarks=(sn_lm, sn_lm, tn_lm))
     assert np.abs(r.image.astype(int) - target).max() <= 2
     # local re-shaping aims at the target's own organs moved by the source: no motion, no change
     r = exprclone.clone(sn, sn, target, method="local", landmarks=(sn_lm, sn_lm, tn_lm))
@@ -226,21 +229,28 @@ def test_the_registries_hold_every_option_value():
     assert options.REGIONS == tuple(DLIB68.regions)
 
 
-def test_the_db_metric_compares_the_crop_it_is_given(pair):
-    """Cloner.clone_methods's ``crop`` (the role check's crop of the source expression) is what the DB metric compares:
-    the crop made from the photo gives the curve of no crop given; another face's crop moves the curve."""
-    from exprclone.geometry import eigenface
+def test_the_db_metrics_candidates_start_from_the_image_e_md_gives_at_gi(pair):
+    """What the DB metric carries to its candidates (:func:`exprclone.pipeline.render.synthesized` at GI) is E+MD's
+    result at lambda_k = 0 bit for bit, whatever strength a render asks (lambda_k is chosen once for every strength)."""
+    from exprclone.pipeline import render, stages
     from exprclone.pipeline.cloner import Cloner
 
     (sn, se, tn), (sn_lm, se_lm, tn_lm) = pair
-    cloner = Cloner(sn, sn_lm, tn, tn_lm, retarget=False)  # (the product's stages have no lambda to choose)
+    cloner = Cloner(sn, sn_lm, tn, tn_lm, retarget=False, strength=0.5)
+    expression = stages.expression(cloner.faces, se, se_lm, cloner.options)
+    gl = stages.shapes(cloner.faces, cloner.options, expression, {"global"}, render.synthesis(cloner.faces, expression, "mesh"))
+    image, _ = render.synthesis(cloner.faces, expression, "mesh")(gl["global"].points)
+    whole = cloner.changed(strength=1.0, lambda_k=0.0).clone_methods(se, se_lm, ("e+md",))["e+md"].image
+    assert np.array_equal(image, whole)
 
-    def curve(crop):
-        return cloner.clone_methods(se, se_lm, ("elastic",), crop=crop)["elastic"].db_curve.db
 
-    made = curve(None)
-    assert np.array_equal(curve(eigenface.crop(se, se_lm, DLIB68)), made)
-    assert not np.allclose(curve(eigenface.crop(sn, sn_lm, DLIB68)), made)
+def test_lambda_zero_gives_gi_bit_for_bit(pair):
+    """With the paper's stages the elastic model at lambda_k = 0 is GI: elastic + ERI's image is global + ERI's (the
+    compare sheet then says (f) = (d))."""
+    images, landmarks = pair
+    made = exprclone.clone_methods(*images, ("global+eri", "elastic+eri"), landmarks=landmarks, retarget=False, lambda_k=0.0)
+    assert np.array_equal(made["elastic+eri"].image, made["global+eri"].image)
+    assert not np.allclose(made["elastic+eri"].landmarks["local"], made["elastic+eri"].landmarks["global"])
 
 
 def test_a_prepared_clone_renders_what_a_whole_clone_gives(pair, results):

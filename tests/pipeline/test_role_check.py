@@ -1,25 +1,35 @@
 """The photos in the wrong boxes (:mod:`exprclone.pipeline.role_check`): two people, the smile given as the neutral face,
-the target's photo in a source's box."""
+the target's photo in a source's box; and photos in the right boxes that are no smile, or in another light."""
 
 import json
 import subprocess
 import sys
 
+import numpy as np
 import pytest
+from conftest import GRID, need_full_data
 
 from exprclone import data as samples
+from exprclone.drive.driver import closed_mouth_frame
+from exprclone.io.video import read_frames
+from exprclone.landmarks.backends import default_detector
 from exprclone.landmarks.layout import DLIB68
+from exprclone.mouth import measure
 from exprclone.pipeline.role_check import (
+    MARGINS,
     SAME_PERSON,
     SURELY_SAME,
     Face,
     appearance_distance,
     expressiveness,
+    from_rest,
     identity_distance,
     judge_roles,
     one_person,
-    smile,
+    rise,
+    votes,
 )
+from exprclone.testing.lighting import changes
 
 PEOPLE = samples.PEOPLE
 
@@ -46,13 +56,58 @@ def test_two_people_are_told_by_their_descriptors(photos):
                 assert "another person" in judge_roles(photos[i, "neutral"], photos[j, "smile"], DLIB68)[0]
 
 
-def test_a_smile_is_more_expressive_and_smiles_more_than_the_neutral_face(photos):
+def test_a_smile_departs_from_rest_in_every_view_and_swapped_is_told(photos):
+    """A smile raises its scores from its neutral face's, lies farther from people's faces at rest, and moves its
+    landmarks farther from the mean neutral face; swapped, two views at least say so beyond their margins (003's weak
+    smile hardly raises the scores), in the right order none."""
     for i in PEOPLE:
-        neutral, smiling = photos[i, "neutral"].points, photos[i, "smile"].points
-        assert expressiveness(smiling, DLIB68) > expressiveness(neutral, DLIB68), i
-        assert smile(smiling, DLIB68) > smile(neutral, DLIB68), i
-        said = judge_roles(photos[i, "smile"], photos[i, "neutral"], DLIB68)
+        neutral, smiling = photos[i, "neutral"], photos[i, "smile"]
+        assert rise(neutral.scores, smiling.scores) > 0 and from_rest(smiling.scores) > from_rest(neutral.scores), i
+        assert expressiveness(smiling.points, DLIB68) > expressiveness(neutral.points, DLIB68), i
+        assert votes(neutral, smiling, DLIB68) == (False, False, False) and sum(votes(smiling, neutral, DLIB68)) >= 2, i
+        said = judge_roles(smiling, neutral, DLIB68)
         assert said == ["source_neutral: looks more expressive than source_expression; are the source's two photos swapped?"], i
+
+
+def test_a_rise_is_an_expressions_whatever_it_does():
+    """The rise counts the scores an expression raises against those it lowers, whatever their names: a frown and raised
+    brows (a sad face) rise as a smile does, and the same motion undone falls as far."""
+    from exprclone.landmarks.blendshapes import NAMES
+
+    rest = np.zeros(52)
+    for names in (("mouthSmileLeft", "mouthSmileRight"), ("mouthFrownLeft", "mouthFrownRight", "browInnerUp"), ("jawOpen",)):
+        moved = rest.copy()
+        moved[[NAMES.index(n) for n in names]] = 0.4
+        assert rise(rest, moved) > MARGINS[0] and rise(moved, rest) == pytest.approx(-rise(rest, moved)), names
+        assert from_rest(moved) > from_rest(rest), names
+
+
+def test_another_light_is_no_swap(photos):
+    """The smile made grey, relit by +-15% from one ear to the other, or given another white balance (the landmarks
+    found afresh on it): the right order raises nothing, whatever the light; swapped, the two photos so changed are
+    told."""
+    detect = default_detector().detect
+    for i in PEOPLE:
+        neutral, smiling = photos[i, "neutral"], photos[i, "smile"]
+        for name, image in changes(smiling.image, smiling.points).items():
+            changed = Face.of(image, detect(image), DLIB68)
+            assert judge_roles(neutral, changed, DLIB68) == [], (i, name)
+            calm = changes(neutral.image, neutral.points)[name]
+            assert "swapped" in judge_roles(changed, Face.of(calm, detect(calm), DLIB68), DLIB68)[0], (i, name)
+
+
+def test_a_speakers_open_mouth_is_no_swap_and_its_swap_is_told():
+    """A GRID speaker's most closed frame as the neutral face and its widest open one as the expression: no warning in
+    that order, the swap told; though no smile (its open mouth lowers the landmarks' smile, as a sad face does)."""
+    clip = need_full_data(GRID / "lbax4n.mpg")
+    detect = default_detector().detect
+    frames = list(read_frames(clip))
+    points = np.array([detect(f) for f in frames])
+    opening = np.array([measure.opening(p, DLIB68) for p in points])
+    closed = Face.of(frames[k := closed_mouth_frame(points, np.ones(len(frames), bool), DLIB68)], points[k], DLIB68)
+    opened = Face.of(frames[k := int(np.argmax(opening))], points[k], DLIB68)
+    assert judge_roles(closed, opened, DLIB68) == []
+    assert "swapped" in judge_roles(opened, closed, DLIB68)[0]
 
 
 def test_the_target_in_a_source_box_is_named(photos):

@@ -23,7 +23,8 @@ from exprclone import data as samples
 from exprclone.io.images import load_image
 from exprclone.io.inputs import Source
 from exprclone.io.video import probe
-from exprclone.server.runtime.shared_jobs import WORKER_LOST
+from exprclone.server.runtime.pools import RETRY_LOST, WorkerLost
+from exprclone.server.runtime.shared_jobs import key_of
 
 pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -m 'not slow' leaves these out
 
@@ -50,7 +51,8 @@ def cluster():
 def servers(cluster):
     """Two servers (A and B) on the cluster, as two replicas behind a proxy would be: their URLs."""
     running, _ = cluster
-    flags = ("--scheduler", running.scheduler_address, "--max-jobs", str(MAX_JOBS), "--max-live", "0", "--workers", "2")
+    bounds = ("--max-jobs", str(MAX_JOBS), "--max-jobs-per-client", str(MAX_JOBS))  # (the tests are one client)
+    flags = ("--scheduler", running.scheduler_address, *bounds, "--max-live", "0", "--workers", "2")
     started = [Server(*flags)]
     try:
         started.append(Server(*flags))
@@ -100,9 +102,15 @@ def test_a_clone_through_one_server_is_the_python_apis(servers):
     assert np.array_equal(np.asarray(Image.open(io.BytesIO(r.content)).convert("RGB")), expected.image)
 
 
-def test_a_video_job_submitted_to_one_server_is_fetched_from_the_other(servers, done_job):
+def test_a_video_job_submitted_to_one_server_is_fetched_from_the_other(cluster, servers, done_job):
+    """And the scheduler (whose names its dashboard and any of its clients see) holds the job under its id's digest,
+    never its id: the state and the MP4 are read with the id alone."""
     a, b = servers
     job, state = done_job
+    _, client = cluster
+    names = [str(name) for name in client.list_datasets()]
+    names += [str(key) for key in client.run_on_scheduler(lambda dask_scheduler: list(dask_scheduler.tasks))]
+    assert any(key_of(job["id"]) in name for name in names) and not any(job["id"] in name for name in names)
     assert state["state"] == "done" and state["progress"] == 1.0 and state["info"]["frames"] == 75, state
     assert httpx.get(f"{a}/api/jobs/{job['id']}").json() == state  # both answer the same
     r = httpx.get(f"{b}{job['result']}", timeout=60)
@@ -121,9 +129,9 @@ def test_a_lost_worker_fails_its_job_and_the_bound_holds_across_servers(cluster,
     refused = httpx.post(f"{a}/api/video", files=VIDEO, timeout=120)  # A counts B's jobs: the one done, this one
     assert refused.status_code == 503 and refused.json()["error"].startswith(f"{MAX_JOBS} video jobs are queued, running or kept")
     assert int(refused.headers["Retry-After"]) > 0
-    kill_worker_running(cluster, job["id"])
+    kill_worker_running(cluster, key_of(job["id"]))
     state = follow(a, job["id"])
-    assert state["state"] == "failed" and state["error"] == WORKER_LOST.format(tries=1), state
+    assert state["state"] == "failed" and state["error"] == str(WorkerLost("this job", "1 tries on the cluster")), state
     assert httpx.get(f"{b}{job['result']}").status_code == 409
     again = httpx.post(f"{a}/api/video", files=VIDEO, data={"size": "128", "method": "global"}, timeout=120)
     assert again.status_code == 202, again.text  # the failed job gave its place back
@@ -136,7 +144,8 @@ def test_a_lost_worker_fails_its_request_and_the_next_one_is_answered(cluster, s
         asked = pool.submit(httpx.post, f"{a}/api/compare", files=files, timeout=120)
         kill_worker_running(cluster, "compare-")
         r = asked.result()
-    assert r.status_code == 503 and r.json() == {"error": "a worker stopped unexpectedly; try again"} and r.headers["Retry-After"] == "2"
+    assert r.status_code == 503 and r.json() == {"error": str(WorkerLost(detail="1 tries on the cluster"))}, r.text
+    assert r.headers["Retry-After"] == str(RETRY_LOST)
     assert httpx.post(f"{a}/api/landmarks", files={"photo": files["target_neutral"]}, timeout=120).status_code == 200
 
 
@@ -184,8 +193,8 @@ def test_a_job_expires_with_its_names_on_the_scheduler(cluster):
         remote = await connect_async(running.scheduler_address)
         jobs = SharedJobs(remote, limit=8, ttl=1)
         try:
-            job_id = await jobs.submit(request, samples.clip().read_bytes(), work.probe_video(str(samples.clip()), limits))
-            while "ended" not in (report := (await jobs.reports())[job_id]):
+            job_id = await jobs.submit("a client", request, samples.clip().read_bytes(), work.probe_video(str(samples.clip()), limits))
+            while "ended" not in (report := (await jobs.reports())[key_of(job_id)]):
                 await asyncio.sleep(0.1)
             await asyncio.sleep(1.5)
             return job_id, report, await jobs.reports()
@@ -194,9 +203,9 @@ def test_a_job_expires_with_its_names_on_the_scheduler(cluster):
             await remote.close()
 
     job_id, report, after = asyncio.run(scenario())
-    assert report["info"]["frames"] == 75 and job_id not in after
+    assert report["info"]["frames"] == 75 and report["client"] == "a client" and key_of(job_id) not in after
     names = client.run_on_scheduler(lambda dask_scheduler: list(dask_scheduler.extensions["variables"].variables))
-    assert not [name for name in [*names, *client.list_datasets()] if job_id in str(name)]
+    assert not [name for name in [*names, *client.list_datasets()] if key_of(job_id) in str(name)]
 
 
 def test_a_scheduler_that_cannot_be_reached_is_one_line():

@@ -29,7 +29,7 @@ def files() -> dict:
 
 @pytest.fixture(scope="module")
 def client():
-    with serving.client("--workers", "1", "--max-edits", "2") as c:
+    with serving.client("--workers", "1", "--max-edits", "2", "--max-edits-per-client", "2") as c:
         yield c
 
 
@@ -48,6 +48,17 @@ def test_a_render_at_the_defaults_is_the_clone_bit_for_bit(client, edit):
     assert full.headers["content-type"] == "image/png" and np.array_equal(pixels(full), expected.image)
     record = client.post(edit["render"], params={"preview": "false", "format": "json"}, data={"strength": "0.5"}).json()
     assert record["options"]["strength"] == 0.5 and record["lambda_k"] == expected.lambda_k == edit["lambda_k"]
+
+
+def test_one_photo_sent_as_two_is_answered_with_a_warning(client, edit):
+    """The same photo as the source's neutral and its expression: the edit is made, and its warnings say so (the page
+    shows them above the result); the three different photos have none."""
+    twice = {**files(), "source_expression": ("again.jpg", PHOTOS["source_neutral"].read_bytes())}
+    made = client.post("/api/edits", files=twice)
+    assert made.status_code == 201, made.text
+    client.delete(f"/api/edits/{made.json()['id']}")
+    said = "source_expression: the same photo as source_neutral, so there is no expression to clone; is one of them the wrong file?"
+    assert made.json()["warnings"] == [said] and edit["warnings"] == []
 
 
 def test_the_preview_follows_the_mouths_strength(client, edit):
@@ -74,6 +85,10 @@ def test_the_preview_follows_the_mouths_strength(client, edit):
         ({"strength_mouth": "3"}, {}, 400, "strength_mouth: must be a number from 0 to 2, got 3"),
         ({"only": "lips"}, {}, 400, "only: unknown region 'lips'"),
         ({}, {"preview": "maybe"}, 400, "preview: Input should be a valid boolean"),
+        # the options fixed when the clone was prepared: said, not ignored
+        ({"lambda": "2"}, {}, 400, "lambda: was fixed when the clone was prepared: prepare it again (POST /api/edits)"),
+        ({"strength": "0.5", "method": "global"}, {}, 400, "method: was fixed when the clone was prepared"),
+        ({"retarget": "false"}, {}, 400, "retarget: was fixed when the clone was prepared"),
     ],
 )
 def test_bad_renders_are_one_line_errors(client, edit, form, params, status, message):

@@ -1,6 +1,7 @@
 """A group photo over HTTP: its faces listed (``POST /api/faces``), every face or those chosen (the ``faces`` field)
 cloned by ``/api/clone`` as the Python API clones them, and sliders over a group."""
 
+import dataclasses
 import io
 
 import httpx
@@ -72,3 +73,22 @@ def test_sliders_over_a_group_render_its_own_size(client, group_photo):
     assert (edit["width"], edit["preview_width"], edit["lambda_k"]) == (760, 760, None)
     half = pixels(client.post(edit["render"], data={"strength": "0.5"}, params={"format": "png"}))
     assert np.array_equal(half, exprclone.expressions.clone(group_photo[1], "smile", strength=0.5).image)
+
+
+def test_more_faces_than_the_server_clones_are_refused_before_any_is_cloned(group_photo):
+    """``serve --max-faces``: a request that chooses more faces of its photo (all, by default) is refused once they are
+    found, before any is cloned; the same photo with fewer chosen is cloned (in a worker's function, as the server runs
+    it)."""
+    from exprclone.errors import ExprCloneError
+    from exprclone.io.inputs import Source
+    from exprclone.options import Options
+    from exprclone.roles import TARGET_NEUTRAL
+    from exprclone.server import work
+
+    photos = (None, None, Source(TARGET_NEUTRAL, group_photo[0]))
+    request = work.CloneRequest(photos, (None, None, None), Options(), None, None, "11", frozenset(), "smile", max_faces=2)
+    expected = f"faces: 3 faces of {TARGET_NEUTRAL} chosen; this server clones at most 2: choose some by number"
+    with pytest.raises(ExprCloneError, match=f"^{expected}"):
+        work.clone(request)
+    encoded, record = work.clone(dataclasses.replace(request, options=Options(faces=(1, 3))))
+    assert [f["problem"] for f in record["faces"]] == ["", "not chosen", ""]

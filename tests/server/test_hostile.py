@@ -267,7 +267,7 @@ def test_a_video_too_long_is_refused_from_its_headers(client, tmp_path):
 def test_an_idle_live_session_is_closed_and_frees_its_slot():
     """Two clients that start and then send nothing held live mode for everyone: with ``--live-idle 2`` they are closed
     after 2 s (an error, then 1008), and a third starts."""
-    server = Server("--workers", "1", "--max-live", "2", "--live-idle", "2")
+    server = Server("--workers", "1", "--max-live", "2", "--max-live-per-client", "2", "--live-idle", "2")
     try:
         with contextlib.ExitStack() as opened:
             sockets = [opened.enter_context(connect(ws(server), max_size=None)) for _ in range(2)]

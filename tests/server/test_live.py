@@ -118,7 +118,7 @@ def frames_as_jpeg(count):
 
 @pytest.fixture(scope="module")
 def live_server():
-    running = Server("--workers", "1")
+    running = Server("--workers", "1", "--max-live-per-client", "2")
     yield running.url.replace("http", "ws") + "/api/live"
     running.stop()
 

@@ -1,12 +1,17 @@
-"""The web page in a real browser (headless Chromium): clone the sample photos, see the result; a photo with no face says so."""
+"""The web page in a real browser (headless Chromium): a photo and an expression, the sliders, the result large with its
+full-size view; the paper's choices under "Advanced"; a photo with no face says so as soon as it is chosen; a phone's
+narrow window."""
 
+import httpx
 import numpy as np
 import pytest
 from browser import chromium
+from conftest import paper_terms
 from PIL import Image
 from serving import Server
 
 from exprclone import data as samples
+from exprclone.options import ADVANCED
 
 pytestmark = pytest.mark.slow  # servers, browsers, clusters or videos: pytest -m 'not slow' leaves these out
 
@@ -28,7 +33,14 @@ def page(server):
         yield page
 
 
+def advanced(page):
+    """The "Advanced" fold open: the paper's choices (method, lambda_k, warps, landmarker, compare)."""
+    page.evaluate("document.querySelector('#advanced').open = true")
+
+
 def set_photos(page, target):
+    """The source's two photos (126's) and the target's: the expression from two photos."""
+    page.check("#source-photos")
     page.set_input_files("input[type=file][name=source_neutral]", str(samples.path("126")))
     page.set_input_files("input[type=file][name=source_expression]", str(samples.path("126", "smile")))
     page.set_input_files("input[type=file][name=target_neutral]", str(target))
@@ -51,6 +63,7 @@ def test_swapped_source_photos_are_warned_of_beside_the_result(page):
     set_photos(page, samples.path("003"))
     page.set_input_files("input[type=file][name=source_neutral]", str(samples.path("126", "smile")))
     page.set_input_files("input[type=file][name=source_expression]", str(samples.path("126")))
+    advanced(page)
     page.select_option("#method", "elastic")
     page.click("#clone")
     page.wait_for_function("document.querySelector('#busy').hidden", timeout=CLONE_TIMEOUT)
@@ -84,14 +97,50 @@ def test_a_photo_without_a_face_is_named_in_the_error(page, tmp_path):
     blank = tmp_path / "blank.png"
     Image.fromarray(np.full((400, 400, 3), 128, np.uint8)).save(blank)
     set_photos(page, blank)
+    page.wait_for_selector("[data-field=target_neutral] .problem", state="visible", timeout=CLONE_TIMEOUT)
     page.click("#clone")
-    page.wait_for_function("document.querySelector('#busy').hidden", timeout=CLONE_TIMEOUT)  # the answer came, and the page is usable again
+    page.wait_for_function("document.querySelector('#busy').hidden", timeout=CLONE_TIMEOUT)  # the page is usable again
     assert page.is_visible("#error") and page.is_enabled("#clone")
     assert page.text_content("#error").startswith("target neutral: no face found")
 
 
+#: what the zone says of each photo chosen, at once: no face, too small (a whole face at 60x60), not an image.
+CHOSEN_PROBLEMS = {
+    "blank.png": "no face found",
+    "small.png": "too small to find a face in (60x60 pixels; at least 80 on each side needed)",
+    "notes.txt": "not an image",
+}
+
+
+@pytest.mark.parametrize("name", CHOSEN_PROBLEMS)
+def test_a_chosen_photo_says_what_is_wrong_with_it_before_clone(page, tmp_path, name):
+    """As soon as a photo is chosen, its zone says what is wrong with it (the server looks at it at once), before
+    Clone is pressed; Clone then says it again without sending the clone; a good photo chosen after it clears it."""
+    path = tmp_path / name
+    if name == "blank.png":
+        Image.fromarray(np.full((400, 400, 3), 128, np.uint8)).save(path)
+    elif name == "small.png":
+        Image.open(samples.path("003")).resize((60, 60), Image.LANCZOS).save(path)
+    else:
+        path.write_text("not a photo")
+    page.reload()
+    sent = []
+    page.on("request", lambda request: sent.append(request.url) if "/api/edits" in request.url else None)
+    page.set_input_files("input[type=file][name=target_neutral]", str(path))
+    said = "[data-field=target_neutral] .problem"
+    page.wait_for_selector(said, state="visible", timeout=CLONE_TIMEOUT)
+    assert CHOSEN_PROBLEMS[name] in page.text_content(said), page.text_content(said)
+    assert page.is_hidden("#result-box")
+    page.click("#clone")
+    assert page.text_content("#error").startswith("target neutral: ") and CHOSEN_PROBLEMS[name] in page.text_content("#error")
+    assert sent == []
+    page.set_input_files("input[type=file][name=target_neutral]", str(samples.path("003")))
+    page.wait_for_selector(said, state="hidden", timeout=CLONE_TIMEOUT)
+
+
 def test_the_transfer_controls_reach_the_clone(page):
     set_photos(page, samples.path("003"))
+    advanced(page)
     page.select_option("#global-warp", "rbf")
     page.select_option("#image-warp", "tps")
     page.fill("#strength", "0.5")
@@ -171,6 +220,7 @@ def test_dragging_the_mouth_slider_opens_the_mouth_step_by_step(page):
 
 def test_compare_draws_figure_19(page):
     set_photos(page, samples.path("003"))
+    advanced(page)
     page.select_option("#figure", "19")
     page.evaluate("document.querySelector('#sheet').removeAttribute('src')")
     page.click("#compare")
@@ -223,6 +273,98 @@ def test_the_faces_of_a_group_photo_are_outlined_and_a_click_leaves_one_out(page
     )
     assert page.is_hidden("#error"), page.text_content("#error")
     assert "faces 1,3 of 3" in page.text_content("#result-caption")
+    # each face cloned, a thumbnail that opens the full-size view on it (the faces were ~50 px on the page)
+    page.wait_for_selector("#result-faces", state="visible")
+    assert page.eval_on_selector_all("#result-faces button", "bs => bs.map(b => b.id)") == ["result-face-1", "result-face-3"]
+    page.click("#result-face-3")
+    page.wait_for_function("document.querySelector('#viewer').open")
+    assert "face 3" in page.text_content("#viewer-title")
+    shown = page.evaluate(
+        """() => { const a = document.querySelector('#viewer .canvas'), i = document.querySelector('#viewer-image');
+                   return [a.scrollLeft, a.scrollTop, a.clientWidth, a.clientHeight, i.naturalWidth, i.clientWidth]; }"""
+    )
+    left, top, right, bottom = found["faces"][2]["box"]
+    x, y = (left + right) / 2 - shown[0], (top + bottom) / 2 - shown[1]  # the face's centre, in the view
+    assert 0 < x < shown[2] and 0 < y < shown[3] and shown[4] == shown[5] == image.shape[1], shown
+    page.click("#viewer-close")
     page.check("#face-2")  # the keyboard's way: its checkbox
     page.set_input_files("input[type=file][name=target_neutral]", str(samples.path("003")))
     page.wait_for_function("document.querySelector('#faces').hidden", timeout=CLONE_TIMEOUT)
+
+
+def test_the_first_view_speaks_no_paper_term_outside_the_advanced_fold(page):
+    """A person's first view: a photo, an expression, the sliders; the paper's words (lambda_k, DB, ERI, a global warp...)
+    and its choices' controls only under "Advanced", closed, where each choice has its plain sentence."""
+    page.reload()
+    page.wait_for_selector("#strength")
+    assert not page.evaluate("document.querySelector('#advanced').open")
+    seen = page.evaluate("document.body.innerText")
+    assert paper_terms(seen) == [], paper_terms(seen)
+    assert "Your photo" in seen and "The expression" in seen and "Whole expression" in seen
+    described = httpx.get(page.url.rstrip("/") + "/api/options").json()["options"]
+    folded = [o["key"].replace("_", "-") for o in described if o["page"] and o["page"]["section"] in ADVANCED and "form" in o["surfaces"]]
+    assert {"method", "lambda", "global-warp", "image-warp", "landmarker", "retarget"} <= set(folded)
+    for key in folded:
+        assert page.evaluate(f"!!document.querySelector('#advanced #{key}')"), key
+        assert not page.is_visible(f"#{key}"), key
+    for key in ("figure", "compare", "show-landmarks", "global_landmarks"):
+        assert page.evaluate(f"!!document.querySelector('#advanced #{key}')") and not page.is_visible(f"#{key}"), key
+    advanced(page)
+    for option in (o for o in described if o["key"].replace("_", "-") in folded):
+        words = page.text_content(f"p.option:has(#{option['key'].replace('_', '-')}) small")
+        assert page.is_visible(f"#{option['key'].replace('_', '-')}") and words == option["page"]["sentence"], option["key"]
+
+
+def test_the_full_size_view_opens_and_toggles_before_and_after(page):
+    """The result large on the page, and at its own pixels in the full-size view (a button, or a click on it), where
+    before/after toggles too; Escape closes it."""
+    page.reload()
+    page.select_option("#expression", "smile")
+    page.set_input_files("input[type=file][name=target_neutral]", str(samples.path("003")))
+    page.click("#clone")
+    page.wait_for_function("document.querySelector('img#result').naturalWidth > 0", timeout=CLONE_TIMEOUT)
+    shown = page.locator("img#result").bounding_box()
+    assert shown["width"] >= 700, shown  # large: twice the 365 px it had beside the photo before
+    page.click("#full-size")
+    page.wait_for_function("document.querySelector('#viewer').open && document.querySelector('#viewer-image').naturalWidth > 0")
+    size = page.evaluate("(i => [i.naturalWidth, i.clientWidth, i.naturalHeight, i.clientHeight])(document.querySelector('#viewer-image'))")
+    assert size == [1350, 1350, 1350, 1350], size
+    assert page.get_attribute("#viewer-image", "src").startswith("data:image/png;base64,")
+    page.click("#viewer-toggle")
+    assert page.get_attribute("#viewer-image", "src").startswith("blob:") and page.text_content("#toggle") == "Show after"
+    page.click("#viewer-toggle")
+    page.keyboard.press("Escape")
+    page.wait_for_function("!document.querySelector('#viewer').open")
+    page.click("#result-open")  # the picture itself opens it too
+    page.wait_for_function("document.querySelector('#viewer').open")
+    page.click("#viewer-close")
+
+
+def test_a_phone_sized_window_works(page):
+    """A phone's window (390 x 844): nothing wider than the screen, the zones and the sliders stacked, a clone of the
+    built-in smile within the width, its full-size view at its own pixels."""
+    phone = page
+    phone.set_viewport_size({"width": 390, "height": 844})
+    try:
+        phone.reload()
+        phone.wait_for_selector("#strength")
+        wide = "document.documentElement.scrollWidth <= window.innerWidth"
+        assert phone.evaluate(wide), phone.evaluate("document.documentElement.scrollWidth")
+        zone, sliders = (phone.locator(s).bounding_box() for s in ("[data-field=target_neutral]", "#strengths"))
+        assert sliders["y"] > zone["y"] + zone["height"] and sliders["width"] > 300, (zone, sliders)
+        assert phone.locator("#strength").bounding_box()["width"] > 150
+        phone.select_option("#expression", "smile")
+        phone.set_input_files("input[type=file][name=target_neutral]", str(samples.path("001")))
+        phone.click("#clone")
+        phone.wait_for_function("document.querySelector('img#result').naturalWidth > 0", timeout=CLONE_TIMEOUT)
+        assert phone.is_hidden("#error"), phone.text_content("#error")
+        result = phone.locator("img#result").bounding_box()
+        assert 300 < result["width"] <= 390 and phone.evaluate(wide), result
+        phone.click("#full-size")
+        phone.wait_for_function("document.querySelector('#viewer').open")
+        assert phone.evaluate("document.querySelector('#viewer-image').clientWidth") == 1350
+        close = phone.locator("#viewer-close").bounding_box()
+        assert close["x"] + close["width"] <= 390 and close["y"] >= 0, close  # the way out is on the screen
+        phone.click("#viewer-close")
+    finally:
+        phone.set_viewport_size({"width": 1280, "height": 900})

@@ -2,6 +2,7 @@
 
 import json
 
+import httpx
 import pytest
 from fastapi.testclient import TestClient
 from hypothesis import given, settings
@@ -227,3 +228,21 @@ def test_parallel_requests_of_one_address_are_paced_as_one_after_another():
 @pytest.mark.parametrize("path", ["/docs", "/redoc", "/openapi.json"])
 def test_the_study_serves_no_api_documentation(client, path):
     assert client.get(path).status_code == 404
+
+
+@pytest.mark.slow  # a real server: uvicorn reads X-Forwarded-For, not the test client
+@pytest.mark.parametrize("proxy", [None, "127.0.0.1"])
+def test_an_address_is_the_connections_unless_a_proxy_the_server_believes_says_otherwise(study_folder, proxy):
+    """A local client cannot pose as many addresses by sending X-Forwarded-For: without ``--forwarded-allow-ips`` its
+    own address counts, whatever it says; behind a proxy named by it (nginx on this machine), the address the proxy
+    gives counts, each its own."""
+    from serving import Server
+
+    believed = () if proxy is None else ("--forwarded-allow-ips", proxy)
+    running = Server(str(study_folder), "--new-per-address", "2", *believed, command=("study", "serve"))
+    try:
+        said = [f"198.51.100.{n}" for n in (1, 2, 3, 3, 3)]
+        codes = [httpx.post(f"{running.url}/api/participants", headers={"X-Forwarded-For": a}).status_code for a in said]
+    finally:
+        running.stop()
+    assert codes == ([201, 201, 429, 429, 429] if proxy is None else [201, 201, 201, 201, 429]), codes

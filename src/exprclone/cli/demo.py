@@ -40,8 +40,12 @@ def run(args: argparse.Namespace) -> None:
     written["smile.png"] = built_in_smile(os.path.join(args.output, "smile.png"), tn)
     from ..evaluation.figures import sheet
 
-    save_image(os.path.join(args.output, "compare.jpg"), sheet(results, se))
-    written["compare.jpg"] = "the seven methods of Fig. 11, the difference images of Figs. 12-13, the DB curve"
+    paper = clone_methods(sn, se, tn, retarget=False)
+    save_image(os.path.join(args.output, "compare.jpg"), sheet(paper, (sn, se, tn), results))
+    written["compare.jpg"] = (
+        f"the seven methods of Fig. 11 by the paper's stages (lambda_k={paper['e+md'].lambda_k:g}), the difference images of"
+        " Figs. 12-13, the DB curve and its terms, and the default's seven below"
+    )
     written["video.mp4"] = drive_video(os.path.join(args.output, "video.mp4"), tn)
     for name, what in written.items():
         print(f"{os.path.join(args.output, name)}: {what}")

@@ -74,6 +74,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     )
     add_lists(e, Options, ("method",), "the methods scored", every=("method",))
     e.add_argument("--out", default="report", help="report folder (default: report/)")
+    e.add_argument(
+        "--full",
+        action="store_true",
+        help="print the full tables (every score of every method, the broad smiles, the variants pair by pair), as"
+        " summary.md has them, instead of the summary of which method is best on what",
+    )
     e.add_argument("--jobs", type=int, default=1, help="processes to use (default 1)")
     add_options(e, Options, ("landmarker",))  # the clones'; the scores' are always dlib's, so that both compare
     flags = ", ".join(f"--{key(Options, n).replace('_', '-')}s" for n in VARIANTS)
@@ -91,10 +97,11 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
 
 def run(args: argparse.Namespace) -> None:
 
-    from ..evaluation.expression import held_out  # (numpy and the rest: loaded when the command runs, not for --help)
+    from ..evaluation.digest import digest  # (numpy and the rest: loaded when the command runs, not for --help)
+    from ..evaluation.expression import held_out
     from ..evaluation.expression import section as expression_section
     from ..evaluation.london import Dataset
-    from ..evaluation.report import write_report
+    from ..evaluation.report import alike, write_report
     from ..evaluation.runner import run as score
     from ..evaluation.runner import variants
     from ..expressions import load
@@ -114,7 +121,12 @@ def run(args: argparse.Namespace) -> None:
         found, sections = expression_section(Path(args.out), data, held, rows, landmarks, methods, chosen, jobs, bar, landmarker)
         rows += found
     command = "exprclone evaluate " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["evaluate"] else "exprclone evaluate"
-    print(write_report(Path(args.out), data, rows, landmarks, methods, command, chosen, tuple(sections), len(folds or ())))
+    out = Path(args.out)
+    full = write_report(out, data, rows, landmarks, methods, command, chosen, tuple(sections), len(folds or ()))
+    if args.full:
+        print(full + (f"\n{sections[2]}" if sections else "") + f"\nreport: {out / 'summary.md'}")
+        return
+    pair_rows = [r for r in rows if r["source"] in data.photos]  # (not a built-in expression's)
+    print(digest(pair_rows, data.root, out, alike(pair_rows), len(folds or ())))
     if sections:
-        print(sections[2])
-    print(f"report: {Path(args.out) / 'summary.md'}")
+        print(f"The built-in expressions against the individual sources: {out / 'summary.md'}, its section {sections[0][3:]!r}.")

@@ -3,7 +3,9 @@
 Uvicorn serves it, bounded: at most ``--max-connections`` connections and tasks at once (more
 are answered 503), idle keep-alive connections closed after ``--keep-alive`` seconds, a
 WebSocket message no larger than an upload. Uvicorn has no timeout for a client that sends
-its request slowly: a public deployment puts a reverse proxy in front (``deploy/nginx.conf``).
+its request slowly: a public deployment puts a reverse proxy in front (``deploy/nginx.conf``),
+and names it with ``--forwarded-allow-ips`` so that each client is known by its own address
+(no ``X-Forwarded-For`` is believed from anyone else).
 """
 
 from __future__ import annotations
@@ -35,7 +37,15 @@ BOUNDS: dict[str, tuple[type, float, str, str]] = {
     "max-video-seconds": (float, 1, " s", "the longest driving video a job takes (from its headers, and counted as decoded)"),
     "max-edits": (int, 1, "", "prepared clones kept at once for the sliders; more are refused with 503"),
     "edit-ttl": (float, 1, " s", "how long a prepared clone is kept without a render"),
+    "max-requests-per-client": (int, 1, "", "requests one client may have at work or waiting; more are refused with 429"),
+    "max-edits-per-client": (int, 1, "", "prepared clones one client may keep; more are refused with 429"),
+    "max-jobs-per-client": (int, 1, "", "video jobs one client may keep; more are refused with 429"),
+    "max-live-per-client": (int, 1, "", "live sessions one client may run at once"),
+    "max-faces": (int, 1, "", "faces of one photo a request may clone; more chosen are refused with 400"),
+    "worker-wait": (float, 0.001, " s", "with --scheduler: how long a request waits for a worker on a cluster that has none (then 503)"),
 }
+#: the certificates of a Dask cluster with TLS, by flag (Dask's own flags' names): what each is.
+TLS = {"tls-ca-file": "the CA's certificate", "tls-cert": "this server's certificate", "tls-key": "its private key"}
 #: the defaults of uvicorn's bounds.
 UVICORN = {"max-connections": 64, "keep-alive": 5.0}
 
@@ -56,11 +66,20 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     add_bounds(s, tuple(BOUNDS))
     s.add_argument("--cors", action="append", default=[], metavar="ORIGIN", help="let pages from ORIGIN call the API (repeatable)")
     s.add_argument(
+        "--api-keys",
+        metavar="FILE",
+        help="API keys clients may send (X-API-Key), one a line: a client with a key has its own share, wherever it connects"
+        " from; a key not in FILE is refused (401)",
+    )
+    s.add_argument(
         "--scheduler",
         metavar="ADDRESS",
-        help="do the clone, compare and video work on this Dask cluster (tcp://HOST:8786), sharing its jobs with the other"
-        " servers on it, instead of in local processes; --workers + --queue then bound the whole cluster's requests",
+        help="do the clone, compare and video work on this Dask cluster (tcp://HOST:8786, or tls://HOST:8786 with the"
+        " certificates below), sharing its jobs with the other servers on it, instead of in local processes; --workers +"
+        " --queue then bound the whole cluster's requests",
     )
+    for flag, what in TLS.items():
+        s.add_argument(f"--{flag}", metavar="FILE", help=f"with a tls:// --scheduler: {what} (PEM; docs/howto/deploy.rst makes them)")
 
 
 def add_bounds(p: argparse.ArgumentParser, flags: tuple[str, ...]) -> None:
@@ -72,18 +91,39 @@ def add_bounds(p: argparse.ArgumentParser, flags: tuple[str, ...]) -> None:
 
 
 def add_address(p: argparse.ArgumentParser) -> None:
-    """Where a server listens: ``--host`` and ``--port``."""
+    """Where a server listens (``--host`` and ``--port``), and the proxies in front of it it believes
+    (``--forwarded-allow-ips``)."""
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default: 127.0.0.1, this machine only)")
-    p.add_argument("--port", type=int, default=8000, help="port (default: 8000)")
+    p.add_argument("--port", type=port, default=8000, help="port (default: 8000)")
+    p.add_argument(
+        "--forwarded-allow-ips",
+        metavar="ADDRESSES",
+        help="the reverse proxies (comma-separated addresses or networks, e.g. 127.0.0.1) whose X-Forwarded-For names the"
+        " client; by default no one's is believed, and a client is known by the address it connects from",
+    )
+
+
+#: the ports a server may listen on.
+PORTS = (1, 65535)
+
+
+def port(text: str) -> int:
+    """An argparse type: a port number within :data:`PORTS` (beyond them, the socket's own error was a long traceback)."""
+    low, high = PORTS
+    if not text.strip().isdigit() or not low <= int(text) <= high:
+        raise argparse.ArgumentTypeError(f"expected a port number from {low} to {high}, got {text!r}")
+    return int(text)
 
 
 def server_packages() -> None:
-    """ExprCloneError unless the web server's packages are installed (the ``server`` extra: FastAPI, uvicorn, ...)."""
+    """ExprCloneError unless the web server's packages are installed (FastAPI, uvicorn, ...: exprclone's own
+    dependencies, missing only from an install without them, ``pip install --no-deps``)."""
     try:
         import fastapi  # noqa: F401
         import uvicorn  # noqa: F401
     except ImportError as e:
-        raise ExprCloneError("serve", f"needs the web server's packages ({e.name} is missing): pip install 'exprclone[server]'") from None
+        missing = f"needs the web server's packages ({e.name} is missing): pip install exprclone installs them"
+        raise ExprCloneError("serve", missing) from None
 
 
 def check_bounds(args: argparse.Namespace, flags: tuple[str, ...]) -> None:
@@ -96,8 +136,15 @@ def check_bounds(args: argparse.Namespace, flags: tuple[str, ...]) -> None:
 
 
 def connection_bounds(args: argparse.Namespace) -> dict[str, Any]:
-    """uvicorn's bounds on connections (:data:`UVICORN`'s flags): at most so many at once, idle keep-alive closed."""
-    return {"limit_concurrency": args.max_connections, "timeout_keep_alive": args.keep_alive}
+    """uvicorn's bounds on connections (:data:`UVICORN`'s flags): at most so many at once, idle keep-alive closed; and
+    whose ``X-Forwarded-For`` it believes (``--forwarded-allow-ips``: no one's by default, not even this machine's)."""
+    proxies = args.forwarded_allow_ips
+    return {
+        "limit_concurrency": args.max_connections,
+        "timeout_keep_alive": args.keep_alive,
+        "proxy_headers": proxies is not None,
+        "forwarded_allow_ips": proxies or "",
+    }
 
 
 def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> None:
@@ -105,7 +152,7 @@ def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> Non
     answers (its start-up done: the workers ready, the port bound), and "stopped" when it stops (after Ctrl-C,
     :class:`~exprclone.cli.inputs.Interrupted`). ExprCloneError if it cannot start (the port in use: uvicorn logs the
     reason first)."""
-    import uvicorn  # (the server extra: loaded when serving, not for --help)
+    import uvicorn  # (loaded when serving, not for --help)
 
     class Announced(uvicorn.Server):
         async def startup(self, sockets: Any = None) -> None:
@@ -126,17 +173,32 @@ def listen(app: Any, args: argparse.Namespace, said: str, **options: Any) -> Non
             print("exprclone: stopped", flush=True)
 
 
+def tls_files(args: argparse.Namespace) -> tuple[str, str, str] | None:
+    """The TLS flags' files (:data:`TLS`), all three or none; ExprCloneError naming the first missing otherwise."""
+    given = [getattr(args, flag.replace("-", "_")) for flag in TLS]
+    if not any(given):
+        return None
+    missing = [flag for flag, path in zip(TLS, given) if not path]
+    if missing:
+        raise ExprCloneError(f"--{missing[0]}", f"missing: give all of {', '.join('--' + f for f in TLS)}, or none")
+    ca, cert, key = given
+    return ca, cert, key
+
+
 def run(args: argparse.Namespace) -> None:
     server_packages()
     from ..server.app import create_app  # (FastAPI, numpy and the rest: loaded when serving, not for --help)
+    from ..server.runtime.clients import read_keys
 
     check_bounds(args, tuple(BOUNDS))
     fields = {flag.replace("-", "_"): getattr(args, flag.replace("-", "_")) for flag in BOUNDS if flag not in UVICORN}
     fields["max_pixels"] = round(fields.pop("max_megapixels") * 1e6)
-    settings = Settings(**fields, cors=tuple(args.cors), scheduler=args.scheduler)
+    tls = tls_files(args)
+    keys = read_keys(args.api_keys) if args.api_keys else frozenset()
+    settings = Settings(**fields, cors=tuple(args.cors), scheduler=args.scheduler, tls=tls, api_keys=keys)
     where = f"{args.workers} workers"
     if args.scheduler:
-        connect(args.scheduler).close()  # one that cannot be reached is a one-line error now, not uvicorn's traceback
+        connect(args.scheduler, tls).close()  # one that cannot be reached is a one-line error now, not uvicorn's traceback
         where = f"the Dask cluster at {args.scheduler}"
     said = f"serving on http://{args.host}:{args.port}/ ({where}; Ctrl-C to stop)"
     listen(create_app(settings), args, said, ws_max_size=int(args.max_upload_mb * 2**20), ws_max_queue=WS_QUEUE)

@@ -28,9 +28,10 @@ from ..landmarks.backends import DEFAULT, shared
 from ..landmarks.layout import DLIB68
 from ..pipeline.clone import clone_methods
 from . import runner
-from .figures import cell, face_box
+from .figures import face_box
 from .judge import SMILING
 from .london import Dataset
+from .panels import panel
 from .runner import Candidate, Row, Variant
 from .scores import TEETH_SHOWN, teeth
 from .statistics import STRONG_SMILE
@@ -256,7 +257,7 @@ def sheet(
             (runner.photo(data.path(t, True)), f"real: id {float(real['identity']):.2f}, P {float(real['smiling'] or 'nan'):.2f}"),
         ]
         box = face_box(landmarks[data.path(t, False)], neutral.shape)
-        strips.append(np.hstack([cell(image[box], text) for image, text in cells]))
+        strips.append(np.hstack([panel(image[box], text) for image, text in cells]))
     return np.vstack(strips)
 
 

@@ -18,7 +18,9 @@ from ..landmarks.layout import DLIB68
 from ..methods import BY_NAME
 from ..mouth.measure import mouth_width
 from .blendshape_judge import RISE_TOP
+from .digest import digest
 from .figures import face_box
+from .judge import MIN_PEOPLE
 from .london import Dataset
 from .runner import FIELDS, PAPER, REFERENCES, Row, Variant, clone_pair, photo
 from .scores import GREY_WARMTH, TEETH_SHOWN, shadows
@@ -156,13 +158,28 @@ def _share(share: float, of: int) -> str:
     return f"{100 * share:.0f}% of {of}" if of else "-"
 
 
+#: what each sign of the tables means (:func:`tables`).
+LEGEND = (
+    "Reading the tables: `a / b` is a mean / a median over the pairs; `[a, b]` a 95% bootstrap interval over the pairs;"
+    " `x% of n` a share of n pairs (the teeth columns: of the pairs whose source's real expression shows teeth, or shows"
+    " none); `+d ± s` a mean difference, pair by pair, and its standard error (below 0 the first method is closer to the"
+    " real expression, or, for identity, to the target's own face); a name with `[...]` a variant, its options beside the"
+    " default. `-` where there is nothing to measure: no result with shadows (shadow warmth: the methods without ERI or"
+    " mesh image shade nothing), no pair of that kind (teeth), the method paired with not run (mouth minus global), too"
+    " few people to train the expression judge without the pair's two (judged smiling: it needs"
+    f" {MIN_PEOPLE} people), fewer than two real expressions to draw the identity line from, no face the blendshape judge could"
+    " read, or every result of the method failed."
+)
+
+
 def tables(rows: list[Row], pair_rows: list[Row]) -> list[str]:
-    """The report's tables as Markdown lines: every method over all pairs, a sentence for each method that scores as
-    another (:func:`alike`), the pairs whose target smiles strongly (a sentence when there are none), and the pair-by-pair
-    comparisons of the variants if any; ``pair_rows`` are the rows of the pairs (not of built-in expressions)."""
+    """The report's tables as Markdown lines: what their signs mean (:data:`LEGEND`), every method over all pairs, a
+    sentence for each method that scores as another (:func:`alike`), the pairs whose target smiles strongly (a sentence
+    when there are none), and the pair-by-pair comparisons of the variants if any; ``pair_rows`` are the rows of the
+    pairs (not of built-in expressions)."""
     n_strong = len({(r["source"], r["target"]) for r in pair_rows if float(r["target_smile"]) >= STRONG_SMILE})
     every = summarise(rows)
-    text = ["## All pairs", "", table(every), "", "The blendshape judge:", "", blendshape_table(every), ""]
+    text = [LEGEND, "", "## All pairs", "", table(every), "", "The blendshape judge:", "", blendshape_table(every), ""]
     text += [line for sentence in alike(pair_rows) for line in (sentence, "")]
     strong = f"## Pairs whose target smiles strongly ({n_strong}: mouth widens by at least {STRONG_SMILE:.0%})"
     if n_strong:
@@ -224,10 +241,11 @@ def write_report(
     sections: tuple[str, ...] = (),
     held_out: int = 0,
 ) -> str:
-    """``pairs.csv``, ``summary.md`` (with the variants against the default setting, :func:`contrasts`, if there are
-    any, then the paragraphs of ``sections``) and the gallery (:func:`_gallery`) of e+md pairs in the first variant;
-    returns its tables (:func:`tables`), for the terminal. ``held_out``: the folds of the people the pairs were drawn
-    within, each cloned with what was learnt without its people (0: none)."""
+    """``pairs.csv``, ``summary.md`` (what each score measures, which method is best on what
+    (:func:`exprclone.evaluation.digest.digest`), the full tables (:func:`tables`: with the variants against the default
+    setting, :func:`contrasts`, if there are any), then the paragraphs of ``sections``) and the gallery (:func:`_gallery`)
+    of e+md pairs in the first variant; returns the full tables, for the terminal (``--full``). ``held_out``: the folds
+    of the people the pairs were drawn within, each cloned with what was learnt without its people (0: none)."""
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "pairs.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, FIELDS, extrasaction="ignore")
@@ -237,7 +255,8 @@ def write_report(
     pair_rows = [r for r in rows if r["source"] in data.photos]  # not a built-in expression's (sections)
     n_pairs = len({(r["source"], r["target"]) for r in pair_rows})
     shown = tables(rows, pair_rows)
-    text = _introduction(command, data, n_pairs, held_out) + shown
+    best = ["## Which method is best on what", "", digest(pair_rows, data.root, None, alike(pair_rows), held_out), ""]
+    text = _introduction(command, data, n_pairs, held_out) + best + shown
     text += [line for section in sections for line in (section, "")]
     gallery = _gallery(out, data, rows, landmarks, "e+md" if "e+md" in methods else methods[-1], variants[0])
     if gallery:

@@ -11,7 +11,9 @@ person's real smile, a clone of A's smile onto B can be compared with B's own sm
   (:func:`exprclone.pipeline.role_check.descriptor`) of the result and of the target's
   neutral photo; dlib calls two faces the same person below 0.6;
 * **teeth**: how much tooth shows between the lips (:func:`teeth`), so that a clone of
-  a smile that shows teeth can be checked to show them too (:data:`TEETH_SHOWN`);
+  a smile that shows teeth can be checked to show them too (:data:`TEETH_SHOWN`): pixels brighter than
+  the lips and far less red, as teeth are beside lips, gums and tongue, whatever the skin and however
+  yellow the teeth;
 * **material swaps**: where the source's two photos show different things, not the same
   skin shaded otherwise (:func:`material_swaps`), so that a clone can be checked to take
   no expression ratio there;
@@ -28,21 +30,29 @@ import cv2
 import numpy as np
 
 from ..details import eri
-from ..imaging import piecewise, raster
+from ..imaging import order, piecewise, raster
 from ..landmarks import align
 from ..landmarks.layout import Layout
-from ..mouth.measure import interior, mouth_width
+from ..mouth.measure import lips_in_box, mouth_width
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 
 if TYPE_CHECKING:
     from ..pipeline.result import CloneResult
 
-#: teeth show from this area of tooth-coloured pixels on, in squared mouth widths: 12 mm²
+#: teeth show from this area of tooth-coloured pixels on (:func:`teeth`), in squared mouth widths: 12 mm²
 #: in a 55 mm wide smile, a sliver one front tooth wide and 1.5 mm high. On the London
 #: Set's 72 people (detected landmarks) it lies between the most a closed mouth scores
-#: (0.0028, a lip piercing; no closed smile above 0.0011) and the least of the 36 smiles
-#: that show teeth to the eye (0.0055).
+#: (0.0025, a neutral mouth's lip piercing) and the least of the 36 smiles that show teeth
+#: to the eye (0.0055); it also tells the 48 E+MD clones of ``exprclone evaluate``'s 50
+#: London pairs that could be labelled by eye (23 show teeth) as the eye does.
 TEETH_SHOWN = 0.004
+#: a pixel between the lips is a tooth's when brighter than the lips (CIELAB L*, their median) and under this
+#: share of their redness (a*, their median): a tooth is near white, or yellow, where lips, gums and tongue are
+#: red, on every skin. Pale or dark lips are about as saturated as a yellowish tooth, so the saturation the mouth's
+#: paste reads teeth by (:data:`exprclone.mouth.measure.TOOTH_SATURATION`) missed the plainly visible teeth of 2
+#: of those clones (107 onto 024, 063 onto 043: 0.000 and 0.001, now 0.057 and 0.062; 097 onto 043 read 0.009, now
+#: 0.058), and counted the gloss of closed lips on the samples (003 onto 126: 0.004, now 0.000).
+TOOTH_REDNESS = 0.6
 #: the skin that counts for :func:`warmth`: it darkens by more than this many CIELAB L* from the neutral photo.
 DARKER = 6.0
 #: :func:`warmth` blurs both photos by this many inter-ocular distances: what it compares is shading, not pores.
@@ -89,11 +99,11 @@ def landmark_error(result: np.ndarray, truth: np.ndarray, layout: Layout) -> dic
 def teeth(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> float:
     """Area of tooth-coloured pixels inside the inner lips, in squared mouth widths.
 
-    Teeth are told from lips, tongue and the dark mouth cavity by being paler and
-    brighter than the lips around them (:func:`exprclone.mouth.measure.interior`); the lips are
-    the reference because they are lit as the mouth is, where the eye whites of a
-    squinting smile are not there to see. A closed mouth, whose inner-lip polygon has no
-    area, scores 0; teeth show from :data:`TEETH_SHOWN` on.
+    Teeth are told from lips, gums, tongue and the dark mouth cavity by being brighter
+    than the lips around them (CIELAB L*) and far less red (a* under :data:`TOOTH_REDNESS`
+    times the lips'); the lips are the reference because they are lit as the mouth is,
+    where the eye whites of a squinting smile are not there to see. A closed mouth, whose
+    inner-lip polygon has no area, scores 0; teeth show from :data:`TEETH_SHOWN` on.
 
     Parameters
     ----------
@@ -106,7 +116,13 @@ def teeth(image: np.ndarray, landmarks: np.ndarray, layout: Layout) -> float:
     -------
     float
     """
-    return float(interior(image, landmarks, layout)[0].sum() / max(mouth_width(landmarks, layout), 1e-9) ** 2)
+    _, crop, lip, inner = lips_in_box(image, landmarks, layout)
+    if not lip.any() or not inner.any():
+        return 0.0
+    lab = cv2.cvtColor(crop.astype(np.float32) / 255, cv2.COLOR_RGB2Lab)
+    lightness, redness = lab[..., 0], lab[..., 1]
+    shown = inner & (lightness > order.median(lightness[lip])) & (redness < TOOTH_REDNESS * order.median(redness[lip]))
+    return float(shown.sum() / max(mouth_width(landmarks, layout), 1e-9) ** 2)
 
 
 def skin_of(shape: tuple[int, ...], landmarks: np.ndarray, layout: Layout) -> np.ndarray:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import io
 import os
+import stat
 import tempfile
 import warnings
 from collections.abc import Callable, Iterable
@@ -58,7 +59,9 @@ def load_image(path: PathLike | bytes, *, name: str | None = None, max_pixels: i
     name : str, optional
         What to call it in messages (by default the path, or ``image`` for content).
     max_pixels : int, optional
-        Refuse larger images before decoding them (a guard against decompression bombs).
+        Refuse larger images before decoding them (a guard against decompression bombs); by default Pillow's own
+        bound, ``PIL.Image.MAX_IMAGE_PIXELS`` (89.5 megapixels, which Pillow would only warn of up to twice that, after
+        decoding), read from the file's header too.
 
     Returns
     -------
@@ -68,8 +71,8 @@ def load_image(path: PathLike | bytes, *, name: str | None = None, max_pixels: i
     Raises
     ------
     ExprCloneError
-        If the file is missing, unreadable, not an image, corrupt or truncated,
-        smaller than ``MIN_SIDE`` pixels on a side, longer than ``MAX_ASPECT`` times its width
+        If the file is missing, not a regular file (:func:`check_file`), unreadable, not an image, corrupt or
+        truncated, smaller than ``MIN_SIDE`` pixels on a side, longer than ``MAX_ASPECT`` times its width
         (or wider than that times its height), or larger than ``max_pixels``.
     """
     name = ("image" if isinstance(path, bytes) else str(path)) if name is None else name
@@ -113,6 +116,22 @@ def check_size(width: int, height: int, name: str, max_pixels: int | None = None
         raise ExprCloneError(name, f"image is too large ({width}x{height} pixels; at most {max_pixels / 1e6:g} megapixels)")
 
 
+def check_file(path: PathLike, name: str | None = None) -> None:
+    """An input file checked before it is opened: ExprCloneError about ``name`` (the path by default) for a directory, or
+    for anything else that is not a regular file (a FIFO, whose opening would wait for a writer for ever; a socket; a
+    device). A path that cannot be looked at is left to the opening, whose error says why.
+    """
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return
+    name = str(path) if name is None else name
+    if stat.S_ISDIR(mode):
+        raise ExprCloneError(name, "is a directory")
+    if not stat.S_ISREG(mode):
+        raise ExprCloneError(name, "not a regular file (a FIFO, a socket or a device): give a file")
+
+
 def check_output_path(path: PathLike, inputs: Iterable[PathLike] = (), extensions: Iterable[str] | None = None) -> None:
     """Check, before any work is done, that an output file can be written at ``path``.
 
@@ -134,7 +153,8 @@ def check_output_path(path: PathLike, inputs: Iterable[PathLike] = (), extension
     extension = os.path.splitext(path)[1].lower()
     allowed = list(_FORMATS) if extensions is None else list(extensions)
     if extension not in allowed:
-        raise ExprCloneError(path, f"unknown output format '{extension}' (use {' or '.join(allowed[:2])})")
+        listed = f"{', '.join(allowed[:-1])} or {allowed[-1]}" if len(allowed) > 1 else allowed[0]
+        raise ExprCloneError(path, f"unknown output format '{extension}' (use {listed})")
     if any(_same_file(path, source) for source in inputs):
         raise ExprCloneError(path, "output would overwrite input file")
     if os.path.isdir(path):
@@ -223,12 +243,14 @@ def atomic_write(path: PathLike, write: Callable[[IO[bytes]], object]) -> None:
 
 def _open(path: PathLike | bytes, name: str, max_pixels: int | None) -> tuple[Image.Image, str]:
     """Open ``path`` (or content) and decode its pixels; return the image and the raw mode it was stored in."""
-    if not isinstance(path, bytes) and os.path.isdir(path):
-        raise ExprCloneError(name, "is a directory")
+    if not isinstance(path, bytes):
+        check_file(path, name)
     image = None
     try:
-        image = Image.open(io.BytesIO(path) if isinstance(path, bytes) else path)
-        check_size(image.width, image.height, name, max_pixels)
+        with warnings.catch_warnings():  # Pillow's alarm at a large header: the size is checked next, before decoding
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            image = Image.open(io.BytesIO(path) if isinstance(path, bytes) else path)
+        check_size(image.width, image.height, name, Image.MAX_IMAGE_PIXELS if max_pixels is None else max_pixels)
         rawmode = _stored_rawmode(image)
         image.load()
     except (OSError, SyntaxError, ValueError, EOFError, Image.DecompressionBombError) as exc:

@@ -13,7 +13,7 @@ from ..landmarks.layout import DLIB68
 from ..pipeline.checks import check_face, check_finite, check_points
 from .documents import parse_json
 from .frl_template import frl_to_68
-from .images import atomic_write
+from .images import atomic_write, check_file
 
 #: points in the Face Research Lab template
 TEM_POINTS = 189
@@ -167,13 +167,12 @@ def _is_number(value: object) -> bool:
 
 def _read_text(path: str | os.PathLike[str]) -> str:
     """The file's text, or ExprCloneError naming the file."""
+    check_file(path)
     try:
         with open(path, encoding="utf-8-sig") as f:
             return f.read(MAX_CHARS + 1)
     except FileNotFoundError:
         raise ExprCloneError(path, "no such file") from None
-    except IsADirectoryError:
-        raise ExprCloneError(path, "is a directory") from None
     except OSError as e:
         raise ExprCloneError(path, f"cannot be read ({e.strerror})") from None
     except UnicodeDecodeError:

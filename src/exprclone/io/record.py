@@ -34,8 +34,9 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
     dict
         ``inputs``, ``method``, ``landmarker`` (which placed the photos' landmarks, null when
         all were given), ``options`` (``global_warp``: similarity, rbf, vtc or given;
-        ``image_warp``, ``strength``, ``only``, ``retarget``), ``lambda_k``, ``db_curve`` (lambda_k and
-        DB of each candidate), ``muscle_strengths``, ``unfolded_points``, ``warnings`` (what looked
+        ``image_warp``, ``strength``, ``only``, ``retarget``), ``lambda_k``, ``db_curve`` (lambda_k, DB
+        and its two distances of Eq. 7, to the source's expression and to GI in the eigenface basis's unit, of each
+        candidate), ``muscle_strengths``, ``unfolded_points``, ``warnings`` (what looked
         wrong with the inputs, :func:`exprclone.pipeline.role_check.judge_roles`), ``landmarks`` (of each stage, to 1/1000 pixel)
         and ``faces``: for a photo of several faces, each one's ``number``, ``box``, ``region``, ``problem`` (why it was
         left as it is), ``lambda_k`` and ``landmarks`` (in the photo's pixels; those of the source's photos in theirs);
@@ -58,7 +59,10 @@ def result_record(result: CloneResult, inputs: dict[str, str]) -> dict[str, Any]
         "lambda_k": json_number(result.lambda_k),
         "db_curve": None
         if curve is None
-        else [{"lambda_k": json_number(lam), "db": float(db)} for lam, db in zip(curve.lambdas, curve.db)],
+        else [
+            {"lambda_k": json_number(lam), "db": float(db), "to_source": float(ds), "to_global": float(dg)}
+            for lam, db, ds, dg in zip(curve.lambdas, curve.db, curve.to_source, curve.to_global)
+        ],
         "muscle_strengths": None if result.muscle_strengths is None else [float(h) for h in result.muscle_strengths],
         "unfolded_points": result.unfolded_points,
         "warnings": list(result.warnings),

@@ -28,7 +28,7 @@ import numpy as np
 from av.video.reformatter import ColorRange, Colorspace
 
 from ..errors import ExprCloneError
-from .images import PathLike, atomic_write, check_output_path, check_size
+from .images import PathLike, atomic_write, check_file, check_output_path, check_size
 from .soundtrack import Soundtrack
 
 CRF = 18
@@ -342,8 +342,7 @@ def _even(frame: np.ndarray) -> np.ndarray:
 def _open_input(path: PathLike, limits: Limits | None = None) -> av.container.InputContainer:
     """Open ``path`` for reading and check that it is a video with a video stream (of frames within ``limits``, read
     from its headers)."""
-    if os.path.isdir(path):
-        raise ExprCloneError(path, "is a directory")
+    check_file(path)
     # each stream's decoder options (PyAV's stubs say strings: typed Any here)
     bounded: dict[str, Any] = {} if limits is None or limits.max_pixels is None else {"stream_options": [limits.decoder()] * PROBED_STREAMS}
     try:

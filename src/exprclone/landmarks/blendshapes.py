@@ -43,7 +43,7 @@ import functools
 
 import numpy as np
 
-from .facemesh import MeshDetector, Model
+from .facemesh import MeshDetector, Model, Roi
 
 #: the 52 scores, in the model's order (MediaPipe's ``kBlendshapeNames``).
 NAMES = (
@@ -121,6 +121,13 @@ class Blendshapes:
             No face is found; its subject is ``subject``.
         """
         return self.of_mesh(self.mesh.detect_mesh(image, subject))
+
+    def scores_at(self, image: np.ndarray, points: np.ndarray, eyes: tuple[int, int]) -> np.ndarray:
+        """The scores ``(52,)`` of the face whose landmarks ``points`` ``(N, 2)`` (any layout; ``eyes`` the places of its
+        outer eye corners, the subject's right first) are known: the mesh is fitted in the crop they give, as it is
+        refined in the crop of its own points (no face to find: about 15 ms a photo)."""
+        roi = Roi.around(points, points[eyes[0]], points[eyes[1]])
+        return self.of_mesh(self.mesh.refine(image, roi))
 
 
 def named(scores: np.ndarray) -> dict[str, float]:

@@ -77,10 +77,11 @@ def interior(image: np.ndarray, landmarks: np.ndarray, layout: Layout, gain: np.
     return teeth, cavity
 
 
-def interior_in_box(
+def lips_in_box(
     image: np.ndarray, landmarks: np.ndarray, layout: Layout, gain: np.ndarray | None = None
-) -> tuple[tuple[slice, slice], np.ndarray, np.ndarray]:
-    """:func:`interior` in the box of the outer lips, where it may be found: the box, and the teeth and the cavity in it."""
+) -> tuple[tuple[slice, slice], np.ndarray, np.ndarray, np.ndarray]:
+    """The box of the outer lips, the photo in it (``gain`` applied to its colours first, as :func:`interior`'s), and in
+    it the lips (between the outer and the inner lip polygons) and what the inner lips enclose, ``(h, w)`` bool each."""
     box = align.box(landmarks[list(layout.mouth_outer)], image.shape)
     crop, corner = image[box], (box[1].start, box[0].start)
     if gain is not None:
@@ -89,7 +90,14 @@ def interior_in_box(
     outer = np.zeros(crop.shape[:2], np.uint8)
     raster.fill_polygon(inner, landmarks[list(layout.mouth_inner)] - corner, 1)
     raster.fill_polygon(outer, landmarks[list(layout.mouth_outer)] - corner, 1)
-    lip, inner = (outer > 0) & (inner == 0), inner > 0
+    return box, crop, (outer > 0) & (inner == 0), inner > 0
+
+
+def interior_in_box(
+    image: np.ndarray, landmarks: np.ndarray, layout: Layout, gain: np.ndarray | None = None
+) -> tuple[tuple[slice, slice], np.ndarray, np.ndarray]:
+    """:func:`interior` in the box of the outer lips, where it may be found: the box, and the teeth and the cavity in it."""
+    box, crop, lip, inner = lips_in_box(image, landmarks, layout, gain)
     if not lip.any() or not inner.any():
         return box, np.zeros_like(inner), np.zeros_like(inner)
     saturation = cv2.cvtColor(crop, cv2.COLOR_RGB2HSV)[..., 1].astype(np.float32)

@@ -30,6 +30,7 @@ from .clone_options import (
     parse_lambda,
 )
 from .specs import (
+    ADVANCED,
     SECTIONS,
     SURFACES,
     Choice,
@@ -55,6 +56,7 @@ from .video_options import SIZE_RANGE, Driving, Framing
 VALUES = (Options, Driving, Framing)
 
 __all__ = [
+    "ADVANCED",
     "EDIT",
     "FACE_WORDS",
     "GIVEN",

@@ -208,6 +208,7 @@ class Options(Chosen):
             page=Page(
                 "Method",
                 "Which way carries the expression over: the paper's seven, (g) its own, or Song et al.'s, which it is compared with.",
+                "method",
                 choices=tuple(Choice(m.name, f"({m.panel}) {m.title}" if m.panel else m.title, m.sentence, m.panel or None) for m in TABLE),
             ),
         ),
@@ -227,6 +228,7 @@ class Options(Chosen):
                 "Balance λk",
                 "How far the face holds each feature's own new shape against the motion of the whole face: 0 the whole"
                 " face's motion alone, ∞ each feature's shape alone.",
+                "method",
                 choices=lambdas,
             ),
         ),
@@ -251,6 +253,7 @@ class Options(Chosen):
             page=Page(
                 "Landmarks",
                 "Which program finds the points of each face (eyes, brows, nose, mouth, jaw).",
+                "method",
                 choices=tuple(LANDMARKER_WORDS.get(name, Choice(name, name)) for name in LANDMARKERS),
             ),
         ),
@@ -336,16 +339,18 @@ class Options(Chosen):
     retarget: bool = option(
         True,
         switch(
-            "make the source's expression the target's own: as the target's face makes it, learnt from real faces (not in"
-            " the paper); false runs the paper's stages exactly (GI carries the source's motion, LI gives each organ the"
-            " source organ's height-to-width ratio, the elastic model balances them)",
-            "run the paper's stages exactly: GI carries the source's motion as it is, LI gives each organ the source organ's"
-            " height-to-width ratio, and the elastic model balances the two (lambda_k by the DB metric)",
+            "this project's addition, not in the paper (on by default): the source's expression made as the target's own"
+            " face makes it, learnt from real faces; off (false): the paper's stages exactly (GI carries the source's"
+            " motion, LI gives each organ the source organ's height-to-width ratio, the elastic model balances them with"
+            " lambda_k chosen by the DB metric)",
+            "the paper's stages exactly, without this project's retargeting: GI carries the source's motion as it is, LI"
+            " gives each organ the source organ's height-to-width ratio, and the elastic model balances the two (lambda_k"
+            " by the DB metric)",
             flag="--no-retarget",
             page=Page(
-                "the target's own smile (unchecked: the paper's stages)",
-                "The source's expression made as the target's own face makes it, learnt from real faces; unchecked, the"
-                " paper's stages carry the source's motion and its organs' shapes.",
+                "the target's own smile (this project's; unchecked: the paper's stages)",
+                "The source's expression made as the target's own face makes it, learnt from real faces (not in the paper);"
+                " unchecked, the paper's stages carry the source's motion and its organs' shapes.",
                 "transfer",
             ),
         ),
@@ -353,7 +358,8 @@ class Options(Chosen):
     eigenfaces: Eigenfaces | None = option(
         None,
         Spec(
-            "eigenface basis for the DB metric: a .npz, or a folder of face photos to train one on",
+            "eigenface basis for the DB metric: a .npz, or a folder of photos of one person's expressions to train one on (as"
+            " the paper does)",
             given,
             metavar="PATH",
             file=True,

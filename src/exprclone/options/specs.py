@@ -21,9 +21,13 @@ from ..errors import ExprCloneError, quoted
 
 #: where an option may be offered outside Python: the command line, an HTTP form, a JSON message (live), a manifest's cell.
 SURFACES = frozenset({"cli", "form", "json", "manifest"})
-#: the parts of a page an option's control may sit in (:attr:`Page.section`): the clone's main choices, how the motion is
-#: carried over, the strengths' sliders (which a prepared clone follows as they move), a video's.
-SECTIONS = ("options", "transfer", "strengths", "video")
+#: the parts of a page an option's control may sit in (:attr:`Page.section`), in the order a page shows them: a choice a
+#: person makes beside the strengths (the teeth), the strengths' sliders (which a prepared clone follows as they move),
+#: the paper's method (which method, its lambda_k, what places the landmarks), how the paper carries the motion over
+#: (the warps, retargeting), a video's own.
+SECTIONS = ("main", "strengths", "method", "transfer", "video")
+#: the sections a page folds away under "Advanced": the paper's choices, which speak its language (a person needs none).
+ADVANCED = ("method", "transfer")
 
 
 @dataclass(frozen=True)
@@ -58,11 +62,11 @@ class Page:
     Attributes
     ----------
     label : str
-        The control's label.
+        The control's label: the paper's words and symbols (lambda_k, GI...) only in a section of :data:`ADVANCED`.
     sentence : str
         What it does, in a person's words: no paper's symbols or jargon.
     section : str
-        The part of a page it sits in (:data:`SECTIONS`).
+        The part of a page it sits in (:data:`SECTIONS`); those of :data:`ADVANCED` are folded away.
     choices : tuple of Choice, or a callable giving them
         The values a menu offers (those allowed, or the ones worth trying of a number), with their words; a callable
         when they come from a room that loads numpy (the DB metric's lambdas), asked for only by a page.

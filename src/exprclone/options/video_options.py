@@ -67,7 +67,7 @@ class Driving(Chosen):
         switch(
             "choose lambda_k by the DB metric on every frame (slower)",
             surfaces=frozenset({"cli", "form"}),
-            page=Page("λk chosen on every frame (slower)", "The balance is chosen again for each frame's expression.", _VIDEO),
+            page=Page("λk chosen on every frame (slower)", "The balance is chosen again for each frame's expression.", "method"),
         ),
     )
     smooth: bool = option(

@@ -109,12 +109,7 @@ class Cloner:
         return other
 
     def prepare(
-        self,
-        source_expression: np.ndarray,
-        source_expression_points: np.ndarray,
-        methods: tuple[str, ...] | None = None,
-        *,
-        crop: np.ndarray | None = None,
+        self, source_expression: np.ndarray, source_expression_points: np.ndarray, methods: tuple[str, ...] | None = None
     ) -> Prepared:
         """One source expression prepared for ``methods``: what every render of it shares.
 
@@ -127,9 +122,6 @@ class Cloner:
         methods : tuple of str, optional
             Any of :data:`~exprclone.methods.METHODS`, sharing the stages they have in common; the options'
             ``method`` alone by default.
-        crop : ndarray of shape (S, S), optional
-            Its eye-aligned crop, when the caller has made it (the role check's,
-            :class:`exprclone.pipeline.role_check.Face`); made here only if the DB metric needs it.
 
         Returns
         -------
@@ -137,19 +129,17 @@ class Cloner:
         """
         chosen = lookup(methods or (self.options.method,))
         faces, options = self.faces, self.options
-        expression = stages.expression(faces, source_expression, source_expression_points, options, crop)
-        if not any(m.ratio for m in chosen):
-            return Prepared(
-                faces, options, self.transfer, chosen, expression, stages.method_shapes(faces, options, expression, chosen), None
-            )
-        # the ERI's photos and the mouth's measures (the faces' own, made once) beside the shape stages: on another core
+        expression = stages.expression(faces, source_expression, source_expression_points, options)
+        shaded = any(m.ratio for m in chosen)
+        # the ERI's photo and the mouth's measures (the faces' own, made once) beside the shape stages: on another core
         with concurrent.futures.ThreadPoolExecutor(1) as beside:
-            photo = beside.submit(faces.expression_photo, expression.image, expression.points, expression.still)
-            measured = beside.submit(lambda: faces.mouth_reference) if options.mouth else None
-            shapes = stages.method_shapes(faces, options, expression, chosen)
+            photo = beside.submit(faces.expression_photo, expression.image, expression.points, expression.still) if shaded else None
+            measured = beside.submit(lambda: faces.mouth_reference) if shaded and options.mouth else None
+            synthesis = render.synthesis(faces, expression, options.image_warp, None if photo is None else photo.result)
+            shapes = stages.method_shapes(faces, options, expression, chosen, synthesis)
             if measured is not None:
                 measured.result()
-            return Prepared(faces, options, self.transfer, chosen, expression, shapes, photo.result())
+            return Prepared(faces, options, self.transfer, chosen, expression, shapes, None if photo is None else photo.result())
 
     def choose_lambda(self, frames: Sequence[np.ndarray], points: Sequence[np.ndarray]) -> float:
         """One lambda_k for several expressions on these faces (the frames of a performance): the median of the DB
@@ -157,17 +147,13 @@ class Cloner:
         options = dataclasses.replace(self.options, lambda_k="auto")
         chosen = []
         for frame, p in zip(frames, points):
-            expression = stages.expression(self.faces, frame, p, options, None)
-            chosen.append(stages.shapes(self.faces, options, expression, {"elastic"})["elastic"].lambda_k)
+            expression = stages.expression(self.faces, frame, p, options)
+            synthesis = render.synthesis(self.faces, expression, options.image_warp)
+            chosen.append(stages.shapes(self.faces, options, expression, {"elastic"}, synthesis)["elastic"].lambda_k)
         return float(np.median(np.array(chosen, float)))
 
     def clone_methods(
-        self,
-        source_expression: np.ndarray,
-        source_expression_points: np.ndarray,
-        methods: tuple[str, ...] | None = None,
-        *,
-        crop: np.ndarray | None = None,
+        self, source_expression: np.ndarray, source_expression_points: np.ndarray, methods: tuple[str, ...] | None = None
     ) -> dict[str, CloneResult]:
         """The source expression on the target face, by each of ``methods``: :meth:`prepare`, then :meth:`Prepared.render`.
 
@@ -176,7 +162,7 @@ class Cloner:
         dict of str to CloneResult
             One result per method.
         """
-        return self.prepare(source_expression, source_expression_points, methods, crop=crop).render()
+        return self.prepare(source_expression, source_expression_points, methods).render()
 
 
 def _same_strengths(a: Options, b: Options) -> bool:

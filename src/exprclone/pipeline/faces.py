@@ -2,7 +2,7 @@
 
 Everything here depends on the two neutral faces alone, not on a source expression nor on
 a clone's options: the target's mesh and its spring neighbours, the source's neutral photo
-placed on that mesh, and, each made on first use, what the RBF and VTC transfers, the DB metric, the
+placed on that mesh, and, each made on first use, what the RBF and VTC transfers, the
 ERI and the mouth interior take of the two photos. A clone of a photo, each frame of a
 video and each render of a slider are then the stages of Fig. 5 that depend on the
 expression (:mod:`exprclone.pipeline.cloner`).
@@ -18,7 +18,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..details.stage import ExpressionPhoto, RatioFaces
-from ..geometry import db_metric, global_warp, vtc
+from ..geometry import global_warp, vtc
 from ..imaging import piecewise
 from ..landmarks import align, lips
 from ..landmarks.layout import Layout
@@ -74,11 +74,6 @@ class Faces:
         """The target's vertex tents over the mesh's landmarks, their least-squares system factorised once, for the VTC
         transfer (:class:`exprclone.geometry.vtc.Tents`)."""
         return vtc.Tents.of(self.t_neu, self.neighbours)
-
-    @functools.cached_property
-    def db_target(self) -> tuple[np.ndarray, float]:
-        """The target photo as the DB metric's candidates are warped from (:func:`exprclone.geometry.db_metric.target_grey`)."""
-        return db_metric.target_grey(self.target_image, self.mesh, self.layout)
 
     @functools.cached_property
     def ratio_faces(self) -> RatioFaces:

@@ -11,7 +11,8 @@ much of the expression, and where, from the :class:`~exprclone.geometry.weights.
 from __future__ import annotations
 
 import concurrent.futures
-from collections.abc import Mapping
+import functools
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -24,13 +25,13 @@ from ..geometry.weights import Transfer
 from ..imaging import piecewise
 from ..imaging.warpers import IMAGE_WARPERS
 from ..landmarks import lips
-from ..methods import Method
+from ..methods import BY_NAME, Method
 from ..mouth import paste
 from ..options import Options
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from .faces import Faces
 from .result import CloneResult
-from .stages import Shape, SourceExpression
+from .stages import Shape, SourceExpression, Synthesis
 
 
 @dataclass(frozen=True)
@@ -143,6 +144,27 @@ def result(
         options=options.ran_by(method),
         **found,
     )
+
+
+def synthesized(
+    faces: Faces, expression: SourceExpression, photo: Callable[[], ExpressionPhoto], image_warp: str, points: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The image E+MD synthesizes at the landmarks ``points``, and the control points it was warped to: FI there, the
+    ERI weighted by the MD mask, the mouth's interior, the whole expression whatever the options' strengths (what the
+    DB metric's candidates are carried from, :mod:`exprclone.geometry.db_metric`). ``photo`` gives the expression photo
+    as the ERI takes it."""
+    whole = Transfer(faces.t_neu)
+    control, unfolded = geometry(faces, points, whole)
+    made = ratio(faces, control, photo(), whole, image_warp)
+    image, _ = details(faces, BY_NAME["e+md"], expression, fi(faces, control, unfolded, image_warp), made, True, whole)
+    return image, control
+
+
+def synthesis(faces: Faces, expression: SourceExpression, image_warp: str, photo: Callable[[], ExpressionPhoto] | None = None) -> Synthesis:
+    """:func:`synthesized` for one expression, as the elastic stage takes it (:data:`exprclone.pipeline.stages.Synthesis`):
+    ``photo`` gives its expression photo as the ERI takes it (one made beside the stages), or it is made when first asked."""
+    made = photo or functools.cache(lambda: faces.expression_photo(expression.image, expression.points, expression.still))
+    return functools.partial(synthesized, faces, expression, made, image_warp)
 
 
 def render(

@@ -30,12 +30,12 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ExprCloneError, ExprCloneWarning
+from ..errors import ExprCloneError, ExprCloneWarning, NoFaceError
 from ..landmarks.backends import name_of, resolve
 from ..landmarks.layout import Layout
 from ..methods import lookup
 from ..options import Options
-from ..roles import ROLES, SOURCE_EXPRESSION, TARGET_NEUTRAL
+from ..roles import ROLES, SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 from . import group, role_check
 from .checks import check_face, check_image, check_points
 from .cloner import Cloner, Prepared
@@ -150,15 +150,22 @@ def photo(image: np.ndarray, points: np.ndarray | None, name: str, layout: Layou
 
 def place(photo: Photo, options: Options, every: bool = False) -> Photo:
     """The photo with its face's landmarks placed by the options' landmarker (its largest face), or with ``every`` face
-    found (a target photo: :func:`exprclone.pipeline.group.find`); as it is if they are known."""
+    found (a target photo: :func:`exprclone.pipeline.group.find`); as it is if they are known. A photo in which no face
+    is found says so, or, under :data:`~exprclone.pipeline.group.MIN_ACROSS` pixels on a side, that it is too small
+    (:class:`~exprclone.errors.NoFaceError` either way)."""
     detector, layout = resolve(options.landmarker), options.landmarks_layout
-    if every:
-        return (
-            photo
-            if photo.points is not None or photo.found is not None
-            else photo.looked(group.find(photo.image, detector, photo.name, layout))
-        )
-    return photo if photo.points is not None else photo.placed(detector.detect(photo.image, photo.name))
+    if photo.points is not None or (every and photo.found is not None):
+        return photo
+    try:
+        if every:
+            return photo.looked(group.find(photo.image, detector, photo.name, layout))
+        return photo.placed(detector.detect(photo.image, photo.name))
+    except NoFaceError:
+        height, width = photo.image.shape[:2]
+        if min(height, width) < group.MIN_ACROSS:
+            problem = f"too small to find a face in ({width}x{height} pixels; at least {group.MIN_ACROSS} on each side needed)"
+            raise NoFaceError(photo.name, problem) from None
+        raise
 
 
 def located(request: Request) -> tuple[Request, str | None]:
@@ -182,6 +189,27 @@ def judge_roles(request: Request) -> tuple[str, ...]:
         return ()
     layout = request.options.landmarks_layout
     return tuple(role_check.judge_roles(request.source_neutral.seen(layout), se.seen(layout), layout, request.target.seen(layout)))
+
+
+#: why two of the photos being the same one is worth a word: the pair's roles, the one named second first.
+SAME_PHOTO = {
+    (SOURCE_NEUTRAL, SOURCE_EXPRESSION): "so there is no expression to clone",
+    (SOURCE_NEUTRAL, TARGET_NEUTRAL): "so the source's expression goes back onto its own face",
+    (SOURCE_EXPRESSION, TARGET_NEUTRAL): "so the target already wears the expression",
+}
+
+
+def same_photos(request: Request) -> tuple[str, ...]:
+    """A warning for each two of the request's photos that are the same one (the same pixels: one file given twice),
+    naming the second after the first, with what it makes of the clone."""
+    photos = [p for p in (request.source_neutral, request.source_expression, request.target) if p is not None]
+    said = []
+    for k, later in enumerate(photos):
+        first = next((p for p in photos[:k] if p.image.shape == later.image.shape and np.array_equal(p.image, later.image)), None)
+        if first is not None:
+            why = SAME_PHOTO.get((first.name, later.name), "")
+            said.append(f"{later.name}: the same photo as {first.name}{', ' + why if why else ''}; is one of them the wrong file?")
+    return tuple(said)
 
 
 def pair(request: Request) -> Cloner:
@@ -229,13 +257,12 @@ def _prepare_one(
 ) -> Prepared:
     """One face's clone prepared (:func:`prepare`), on ``cloner``'s faces if they are prepared; what looked wrong with the photos
     issued as warnings (``stacklevel`` as :func:`warnings.warn`'s, from here)."""
-    said = judge_roles(request)
+    said = same_photos(request) or judge_roles(request)  # (the roles of one photo given twice say nothing more)
     for message in said:
         warnings.warn(message, ExprCloneWarning, stacklevel=stacklevel)
     se = request.source_expression
     assert se is not None and se.points is not None
-    crop = se.seen(request.options.landmarks_layout).crop if request.check_roles else None
-    prepared = (cloner or pair(request)).prepare(se.image, se.points, methods, crop=crop)
+    prepared = (cloner or pair(request)).prepare(se.image, se.points, methods)
     return dataclasses.replace(prepared, landmarker=placed, warnings=said)
 
 

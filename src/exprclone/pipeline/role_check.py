@@ -18,29 +18,40 @@ Who a face is:
   of the two faces, similarity-aligned, in eye distances. Two photos closer than
   :data:`SURELY_SAME` are one person's, and the descriptors (about 0.2 s a photo) are not computed.
 
-Which photo is the neutral face:
+Which photo is the neutral face, judged by what any expression does to a face (not by how much it
+looks like a smile: a sad or a surprised face is no smile, a speaker's open mouth neither). Three
+views, each a vote that the photos are swapped:
 
+- :func:`rise`: the blendshape scores (:mod:`exprclone.landmarks.blendshapes`, MediaPipe's 52
+  named expressions, from the mesh fitted at the face's landmarks: :func:`scores`), each in units
+  of how far people's faces at rest score apart (:data:`REST`, the London Set's neutral photos):
+  an expression raises the scores of what it does (``jawOpen``, ``mouthFrownLeft``,
+  ``browInnerUp``, ``mouthSmileLeft``, ...) far more than it lowers others; the sum of the
+  :data:`TOP` largest rises and the :data:`TOP` largest falls from the "neutral" photo to the
+  "expression" is negative when the two are swapped;
+- :func:`from_rest`: how far a face's scores lie from people's at rest (root-mean-square, in the
+  same units): the "neutral" photo lies farther when the two are swapped;
 - :func:`expressiveness`: how far a face's moving landmarks (brows, lids, lips) lie from
   :data:`NEUTRAL_FACE`, the mean neutral face of the London Set, once its rigid landmarks are
-  aligned on it (root-mean-square, in eye distances): any expression moves them;
-- :func:`smile`: how far they lie along :data:`SMILE`, the direction in which the London Set's
-  smiles move them from each person's neutral face (a ridge regression). A weak smile hardly
-  changes the expressiveness, but it always moves the landmarks this way.
+  aligned on it (root-mean-square, in eye distances): any expression moves them.
 
-The source's photos look swapped when the "neutral" one is more expressive by over
-:data:`MIN_SWAP`, or when it smiles more and is not clearly less expressive (by :data:`GATE`:
-an expression that is no smile, a surprise, may smile less than a neutral face, but it moves the
-face far more).
+Each view votes only beyond what a change of light alone gives it (:data:`MARGINS`: the spread of
+its value between a London photo and the same photo made grey, relit by +-15% from one ear to
+the other, or given another white balance); the photos look swapped when two of the three vote
+so. A face at rest is not quite still in any one view (a speaker's closed mouth presses its lips, a
+weak smile hardly moves the blendshapes); two views seldom err together.
 
-The bounds, and the rates they give on the London Set for every kind of mistake (the smile's
-direction and the mean face learnt without the person judged), are measured by
-``tools/role_check.py``.
+The rates this gives on the London Set (the mean face and the scores at rest learnt without the
+person judged), on its photos made grey, relit or given another white balance, and on GRID's
+speakers (a closed frame as the neutral face, each open-mouth frame as the expression) are
+measured by ``tools/role_check.py``.
 """
 
 from __future__ import annotations
 
 import functools
 import json
+import threading
 from dataclasses import dataclass, field
 from importlib import resources
 from typing import Any
@@ -48,9 +59,9 @@ from typing import Any
 import numpy as np
 
 from ..geometry.eigenface import crop, normalise
-from ..landmarks import align
+from ..landmarks import align, blendshapes
 from ..landmarks.dlib import model_path
-from ..landmarks.layout import Layout
+from ..landmarks.layout import DLIB68, Layout
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 
 #: rows of the 64-pixel eye-aligned crop compared for appearance: from the brows to the upper lip.
@@ -62,10 +73,16 @@ SHAPE_WEIGHT = 20.0
 SURELY_SAME = 0.6
 #: the descriptors' distance under which two faces are one person's (dlib's: its model was trained to it).
 SAME_PERSON = 0.6
-#: how much more expressive (eye distances) the "neutral" photo must look than the "expression" to be called swapped.
-MIN_SWAP = 0.01
-#: how much less expressive the "neutral" photo may look, and still be called swapped when it smiles more.
-GATE = 0.01
+#: the blendshape scores whose rises and falls say which way a pair of photos goes (:func:`rise`): an expression's
+#: few (the blendshape judge's "scores each source raises most").
+TOP = 4
+#: the least spread of a score at rest (:data:`REST`): a score that no neutral face raises is not told apart to finer
+#: than the scorer's own steps (its scores move by 0.006 in the median, up to 0.035, with the light alone).
+REST_FLOOR = 0.02
+#: the votes' margins (:func:`votes`): :func:`rise`, :func:`from_rest` (score units at rest) and :func:`expressiveness`
+#: (eye distances) each vote only beyond one standard deviation of the change that light alone makes to them (a London
+#: photo against itself made grey, relit or given another white balance: ``tools/role_check.py --noise``).
+MARGINS = (1.74, 0.148, 0.0029)
 
 
 def _learnt() -> dict[str, Any]:
@@ -77,34 +94,50 @@ _LEARNT = _learnt()
 #: the mean neutral face of the London Set's 72 people (dlib's 68 points, outer eye corners at (0, 0) and (1, 0)),
 #: written by ``tools/role_check.py --write-template``.
 NEUTRAL_FACE = np.array(_LEARNT["landmarks"], float)
-#: the direction in which a smile moves the moving landmarks (:func:`moving`) of a face aligned on
-#: :data:`NEUTRAL_FACE`, written with it: a smile's :func:`smile` exceeds its neutral face's.
-SMILE = np.array(_LEARNT["smile"], float)
+#: the places of the expression's scores among the 52 (:data:`exprclone.landmarks.blendshapes.EXPRESSION`: no gaze).
+EXPRESSION = blendshapes.indices(blendshapes.EXPRESSION)
+#: people's faces at rest: the mean of each expression score (:data:`EXPRESSION`) over the London Set's neutral photos,
+#: and its spread (the standard deviation and :data:`REST_FLOOR` added in quadrature), written with :data:`NEUTRAL_FACE`.
+REST = (np.array(_LEARNT["rest_mean"], float), np.array(_LEARNT["rest_spread"], float))
+#: one scorer at a time (a LiteRT interpreter is not for two threads at once).
+_SCORING = threading.Lock()
+
+
+def scores(image: np.ndarray, points: np.ndarray, layout: Layout) -> np.ndarray:
+    """The blendshape scores ``(52,)`` of the face with these landmarks in an ``(H, W, 3)`` uint8 RGB photo
+    (:meth:`exprclone.landmarks.blendshapes.Blendshapes.scores_at`: the mesh fitted where the landmarks are)."""
+    with _SCORING:
+        return blendshapes.shared().scores_at(image, points, layout.eye_corners)
 
 
 @dataclass(frozen=True)
 class Face:
     """A face as the role check sees it: its landmarks, its eye-aligned grey crop
-    (:func:`exprclone.geometry.eigenface.crop`), and the photo for its descriptor, made when first asked for.
+    (:func:`exprclone.geometry.eigenface.crop`), and the photo for its descriptor and its blendshape scores, each made
+    when first asked for.
 
-    The door keeps it with its photo (:meth:`exprclone.pipeline.request.Photo.seen`). A clone whose lambda_k the DB
-    metric chooses compares the same crop of the source's expression (:func:`exprclone.geometry.db_metric.choose_lambda`):
-    the door makes it once for both.
+    The door keeps it with its photo (:meth:`exprclone.pipeline.request.Photo.seen`).
     """
 
     points: np.ndarray
     crop: np.ndarray
     image: np.ndarray = field(repr=False, compare=False)
+    layout: Layout = field(default=DLIB68, repr=False, compare=False)
 
     @classmethod
     def of(cls, image: np.ndarray, points: np.ndarray, layout: Layout) -> Face:
         """The role check's view of an ``(H, W, 3)`` photo with its ``(N, 2)`` landmarks."""
-        return cls(points, crop(image, points, layout), image)
+        return cls(points, crop(image, points, layout), image, layout)
 
     @functools.cached_property
     def descriptor(self) -> np.ndarray:
         """Its face's :func:`descriptor`."""
         return descriptor(self.image, self.points)
+
+    @functools.cached_property
+    def scores(self) -> np.ndarray:
+        """Its face's blendshape :func:`scores` ``(52,)``."""
+        return scores(self.image, self.points, self.layout)
 
 
 @functools.cache
@@ -158,15 +191,36 @@ def expressiveness(points: np.ndarray, layout: Layout) -> float:
     return float(np.sqrt(((moving(points, layout) - moving(NEUTRAL_FACE, layout)) ** 2).sum(1).mean()))
 
 
-def smile(points: np.ndarray, layout: Layout) -> float:
-    """How far a face's :func:`moving` landmarks lie along :data:`SMILE`: more for a smile than for its neutral face."""
-    return float(moving(points, layout).ravel() @ SMILE)
+def from_rest(face: np.ndarray) -> float:
+    """How far a face's blendshape scores ``(52,)`` lie from people's at rest (:data:`REST`): the root-mean-square over
+    the expression's scores of their departures, each over its spread at rest; more for an expression."""
+    mean, spread = REST
+    return float(np.sqrt((((face[EXPRESSION] - mean) / spread) ** 2).mean()))
 
 
-def swapped(neutral: np.ndarray, expression: np.ndarray, layout: Layout) -> bool:
-    """Whether the source's photos with these landmarks look swapped (the module's notes)."""
-    more = expressiveness(neutral, layout) - expressiveness(expression, layout)
-    return more > MIN_SWAP or (smile(neutral, layout) > smile(expression, layout) and more > -GATE)
+def rise(neutral: np.ndarray, expression: np.ndarray) -> float:
+    """How much the scores ``(52,)`` rise from ``neutral`` to ``expression``: the sum of the :data:`TOP` largest changes
+    and the :data:`TOP` smallest (the largest falls), each over its spread at rest (:data:`REST`); positive for an
+    expression after its neutral face, negative for the two swapped."""
+    change = np.sort((expression[EXPRESSION] - neutral[EXPRESSION]) / REST[1])
+    return float(change[-TOP:].sum() + change[:TOP].sum())
+
+
+def votes(neutral: Face, expression: Face, layout: Layout) -> tuple[bool, bool, bool]:
+    """Whether each view says the source's photos are swapped (the module's notes): the scores fall (:func:`rise`), the
+    "neutral" photo's scores lie farther from rest (:func:`from_rest`), its landmarks farther from the mean neutral face
+    (:func:`expressiveness`); each beyond its margin (:data:`MARGINS`)."""
+    falls, farther, moved = MARGINS
+    return (
+        rise(neutral.scores, expression.scores) < -falls,
+        from_rest(neutral.scores) - from_rest(expression.scores) > farther,
+        expressiveness(neutral.points, layout) - expressiveness(expression.points, layout) > moved,
+    )
+
+
+def swapped(neutral: Face, expression: Face, layout: Layout) -> bool:
+    """Whether the source's photos look swapped: two of the three :func:`votes` say so."""
+    return sum(votes(neutral, expression, layout)) >= 2
 
 
 def judge_roles(neutral: Face, expression: Face, layout: Layout, target: Face | None = None) -> list[str]:
@@ -195,6 +249,6 @@ def judge_roles(neutral: Face, expression: Face, layout: Layout, target: Face | 
                     f" are {odd} and {TARGET_NEUTRAL} swapped?"
                 ]
         return [f"{SOURCE_EXPRESSION}: looks like another person than {SOURCE_NEUTRAL}; the source's two photos should show one person"]
-    if swapped(neutral.points, expression.points, layout):
+    if swapped(neutral, expression, layout):
         return [f"{SOURCE_NEUTRAL}: looks more expressive than {SOURCE_EXPRESSION}; are the source's two photos swapped?"]
     return []

@@ -28,6 +28,10 @@ from .faces import Faces
 #: LI this close to GI (pixels) is GI: the elastic model has nothing to balance, and the DB metric nothing to choose.
 SAME = 1e-6
 
+#: the image a clone synthesizes at some landmarks, and the mesh's control points it was warped to: E+MD's, the whole
+#: expression (:func:`exprclone.pipeline.render.synthesized`), which the DB metric's candidates are carried from.
+Synthesis = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+
 
 @dataclass(frozen=True)
 class SourceExpression:
@@ -52,10 +56,6 @@ class SourceExpression:
     still : ndarray of shape (N, 2)
         ``points`` with the head's motion removed, in the neutral photo's frame
         (:func:`exprclone.geometry.global_warp.remove_head_motion`): what the ERI's gate and the MD model measure.
-    crop : ndarray of shape (S, S) or None
-        Its eye-aligned grey crop (:func:`exprclone.geometry.eigenface.crop`), whose eigenface features
-        the DB metric compares (``E_source_exp`` of Eq. 7), if the caller has made it (the
-        role check's); None leaves it to the elastic stage, made only when it chooses ``lambda_k``.
     """
 
     image: np.ndarray
@@ -64,7 +64,6 @@ class SourceExpression:
     moving: np.ndarray
     organs: np.ndarray
     still: np.ndarray
-    crop: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -99,20 +98,21 @@ GLOBAL_WARPERS: dict[str, Callable[[Faces, SourceExpression], np.ndarray]] = {
 }
 
 
-def global_stage(faces: Faces, options: Options, expression: SourceExpression, shapes: dict[str, Shape]) -> Shape:
+def global_stage(faces: Faces, options: Options, expression: SourceExpression, shapes: dict[str, Shape], synthesis: Synthesis) -> Shape:
     """GI: given from outside, the result of any other method (Fig. 21), else by the global warp of the options
     (:data:`GLOBAL_WARPERS`)."""
     given = options.global_landmarks
     return Shape(given if given is not None else GLOBAL_WARPERS[options.global_warp](faces, expression))
 
 
-def local_stage(faces: Faces, options: Options, expression: SourceExpression, shapes: dict[str, Shape]) -> Shape:
+def local_stage(faces: Faces, options: Options, expression: SourceExpression, shapes: dict[str, Shape], synthesis: Synthesis) -> Shape:
     """LI: each organ of GI re-shaped to the expression's organs (:attr:`SourceExpression.organs`), Eqs. (1)-(2)."""
     return Shape(local_warp.local_landmarks(shapes["global"].points, expression.organs, faces.layout))
 
 
-def elastic_stage(faces: Faces, options: Options, expression: SourceExpression, shapes: dict[str, Shape]) -> Shape:
-    """The elastic model's balance of GI and LI, Eqs. (3)-(6), lambda_k given or chosen by the DB metric, Eqs. (7)-(8)."""
+def elastic_stage(faces: Faces, options: Options, expression: SourceExpression, shapes: dict[str, Shape], synthesis: Synthesis) -> Shape:
+    """The elastic model's balance of GI and LI, Eqs. (3)-(6), lambda_k given or chosen by the DB metric, Eqs. (7)-(8):
+    its candidates the image ``synthesis`` makes at GI carried to each (:func:`exprclone.geometry.db_metric.choose_lambda`)."""
     gl, local = shapes["global"].points, shapes["local"].points
     if expression.lambda_k == "auto" and np.abs(local - gl).max() < SAME:  # every lambda_k gives GI: nothing to choose
         return Shape(gl, 0.0)
@@ -120,16 +120,17 @@ def elastic_stage(faces: Faces, options: Options, expression: SourceExpression, 
         chosen = float(expression.lambda_k)
         return Shape(elastic.elastic_landmarks(gl, local, faces.neighbours, chosen), chosen)
     lambdas = np.array(db_metric.LAMBDAS)
-    # the DB metric looks at 64-pixel crops: its candidates need no sub-pixel search (db_metric.CANDIDATE_PASSES)
+    # the candidates need no finer search than the features' pixels (db_metric.CANDIDATE_PASSES)
     candidates = list(elastic.elastic_landmarks(gl, local, faces.neighbours, lambdas, db_metric.CANDIDATE_PASSES))
-    eigenfaces = options.eigenfaces or default_eigenfaces()
-    crop = eigenface.crop(expression.image, expression.points, faces.layout) if expression.crop is None else expression.crop
-    curve = db_metric.choose_lambda(faces.db_target, faces.mesh, candidates, lambdas, crop, eigenfaces, faces.layout)
+    layout = faces.layout
+    at_gl = db_metric.Synthesized.of(*synthesis(gl), layout, faces.mesh.n_landmarks)
+    crop = eigenface.crop(expression.image, expression.points, layout, eigenface.FEATURE_SIZE)
+    curve = db_metric.choose_lambda(at_gl, faces.mesh, candidates, lambdas, crop, options.eigenfaces or default_eigenfaces(), layout)
     return Shape(elastic.elastic_landmarks(gl, local, faces.neighbours, curve.best), curve.best, curve)
 
 
 #: the shape stages of :data:`exprclone.methods.SHAPES` by name, each computed from the ones before it.
-SHAPE_STAGES: dict[str, Callable[[Faces, Options, SourceExpression, dict[str, Shape]], Shape]] = {
+SHAPE_STAGES: dict[str, Callable[[Faces, Options, SourceExpression, dict[str, Shape], Synthesis], Shape]] = {
     "global": global_stage,
     "local": local_stage,
     "elastic": elastic_stage,
@@ -141,36 +142,37 @@ def expression(
     image: np.ndarray,
     points: np.ndarray,
     options: Options,
-    crop: np.ndarray | None,
 ) -> SourceExpression:
     """One source expression, prepared for the shape stages: with the options' ``retarget``, its motion made as the
     target's own face makes it (:meth:`exprclone.geometry.expression_shape.ExpressionShape.transfer`, by the options'
     ``expression_shape`` or the model shipped), carried by the global warps and aimed at by local re-shaping; without,
-    the paper's (its own points). ``crop`` is its eye-aligned crop if the caller has made it
-    (:attr:`SourceExpression.crop`)."""
+    the paper's (its own points)."""
     layout = faces.layout
     points = lips.uncross(points, layout)
     still = global_warp.remove_head_motion(faces.s_neu, points, layout)
     if not options.retarget:
-        return SourceExpression(image, points, options.lambda_k, points, points, still, crop)
+        return SourceExpression(image, points, options.lambda_k, points, points, still)
     model = options.expression_shape or default_model()
     motion = model.transfer(faces.s_neu, still - faces.s_neu, faces.t_neu, layout)
     linear = align.fit_similarity(faces.s_neu, faces.t_neu)[:, :2]  # how the global warp carries a motion to the target
     # the motion in the source's frame that the global warp carries there (with no head motion of its own to remove)
     moving = global_warp.remove_head_motion(faces.s_neu, faces.s_neu + motion @ np.linalg.inv(linear).T, layout)
-    return SourceExpression(image, points, options.lambda_k, moving, faces.t_neu + (moving - faces.s_neu) @ linear.T, still, crop)
+    return SourceExpression(image, points, options.lambda_k, moving, faces.t_neu + (moving - faces.s_neu) @ linear.T, still)
 
 
-def shapes(faces: Faces, options: Options, expression: SourceExpression, wanted: set[str]) -> dict[str, Shape]:
-    """The shape stages (:data:`SHAPE_STAGES`) up to the last one ``wanted``; GI and LI always."""
+def shapes(faces: Faces, options: Options, expression: SourceExpression, wanted: set[str], synthesis: Synthesis) -> dict[str, Shape]:
+    """The shape stages (:data:`SHAPE_STAGES`) up to the last one ``wanted``; GI and LI always. ``synthesis`` makes the
+    image the DB metric's candidates are carried from (:data:`Synthesis`), if it runs."""
     done: dict[str, Shape] = {}
     for name in SHAPES:
         if name in wanted | {"global", "local"}:
-            done[name] = SHAPE_STAGES[name](faces, options, expression, done)
+            done[name] = SHAPE_STAGES[name](faces, options, expression, done, synthesis)
     return done
 
 
-def method_shapes(faces: Faces, options: Options, expression: SourceExpression, methods: tuple[Method, ...]) -> dict[str, Shape]:
+def method_shapes(
+    faces: Faces, options: Options, expression: SourceExpression, methods: tuple[Method, ...], synthesis: Synthesis
+) -> dict[str, Shape]:
     """The shape stages ``methods`` need (:func:`shapes`), each kept by :meth:`exprclone.methods.Method.key`: on the
     options' global warp, and on each method's own (:attr:`~exprclone.methods.Method.warp`, which replaces the options'
     global stage)."""
@@ -178,6 +180,6 @@ def method_shapes(faces: Faces, options: Options, expression: SourceExpression, 
     for warp in dict.fromkeys(m.warp for m in methods):
         own = [m for m in methods if m.warp == warp]
         chosen = options if warp is None else dataclasses.replace(options, global_warp=warp, global_landmarks=None)
-        made = shapes(faces, chosen, expression, {m.shape for m in own})
+        made = shapes(faces, chosen, expression, {m.shape for m in own}, synthesis)
         done.update({own[0].key(name): shape for name, shape in made.items()})
     return done

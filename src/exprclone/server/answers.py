@@ -24,6 +24,15 @@ class Health(BaseModel):
     model_config = {"json_schema_extra": {"examples": [{"status": "ok", "version": __version__}]}}
 
 
+class Ready(BaseModel):
+    """The server can serve a request now, and its version."""
+
+    status: Literal["ready"]
+    version: str
+
+    model_config = {"json_schema_extra": {"examples": [{"status": "ready", "version": __version__}]}}
+
+
 class ExpressionListed(BaseModel):
     """A built-in expression: its name (the ``expression`` field of ``/api/clone``) and what it is."""
 

@@ -3,8 +3,9 @@
 Models are loaded once per worker process at start-up (FastAPI's lifespan), CPU work
 runs in those processes, never on the event loop, and every error a user can cause is
 answered as JSON ``{"error": "<field: problem>"}`` with a 4xx status: 400 for a file
-that is not an image or a bad parameter, 413 for an upload over the limit, 422 for a
-photo or video without a face, 503 (with ``Retry-After``) when the work queue is full.
+that is not an image or a bad parameter, 401 for an unknown API key, 413 for an upload over
+the limit, 422 for a photo or video without a face, 429 (with ``Retry-After``) when a client
+holds its share, 503 (with ``Retry-After``) when the work queue is full or no worker can take it.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from ..errors import ExprCloneError, NoFaceError
 from .openapi import document
 from .routers import ROUTERS
 from .routers.pages import STATIC
+from .runtime.clients import UnknownKey
 from .runtime.jobs import JobNotDone, NoSuchJob
 from .runtime.limits import Busy, TooMany, UploadLimit
 from .runtime.state import Work
@@ -60,6 +62,7 @@ def add_error_answers(app: FastAPI, statuses: dict[type[Exception], int] | None 
     for kind, status in (statuses or {}).items():
         app.add_exception_handler(kind, lambda request, e, status=status: _error(status, str(e)))
     app.add_exception_handler(NoFaceError, lambda request, e: _error(422, str(e)))
+    app.add_exception_handler(UnknownKey, lambda request, e: _error(401, str(e)))
     app.add_exception_handler(ExprCloneError, lambda request, e: _error(400, str(e)))
     app.add_exception_handler(RequestValidationError, lambda request, e: _error(400, _validation_message(e)))
     app.add_exception_handler(Busy, lambda request, e: _error(503, str(e), {"Retry-After": str(e.retry_after)}))

@@ -31,8 +31,9 @@ class OptionChoice(BaseModel):
 
 
 class OptionPage(BaseModel):
-    """How a page shows an option: its control's label, a plain sentence, the section it sits in (``options``,
-    ``transfer``, ``strengths``, ``video``), the values its menu offers, the words of a first entry that sends nothing
+    """How a page shows an option: its control's label, a plain sentence, the section it sits in (``main``,
+    ``strengths``, ``method``, ``transfer``, ``video``; ``method`` and ``transfer`` are the paper's choices, which a page
+    folds away as advanced), the values its menu offers, the words of a first entry that sends nothing
     (when that is not the default), a slider's step, and the key of the option a slider follows until it is moved."""
 
     label: str

@@ -30,11 +30,15 @@ from pydantic import BaseModel
 #: what each error status means, in every route that can answer it.
 MEANING = {
     400: "a bad parameter, a missing field, or a file that is not an image (or not a video, or not a landmark file)",
-    404: "an unknown or expired job",
+    401: "an X-API-Key this server does not know",
+    404: "an unknown or expired job (or edit)",
     409: "the job is not done",
     413: "the request is larger than the server's --max-upload-mb",
     422: "a photo or video in which no face is found",
-    503: "the work queue is full: retry after the Retry-After header's seconds",
+    429: "this client holds its share already (requests at work or waiting, edits or video jobs): retry after the"
+    " Retry-After header's seconds",
+    503: "the server cannot take the request now (its work queue is full, a worker stopped, no worker is ready, or its"
+    " cluster's scheduler is lost; the error says which): retry after the Retry-After header's seconds",
 }
 #: where the pages' assets are served from.
 ASSETS_URL = "/docs-assets"

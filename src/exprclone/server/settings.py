@@ -41,10 +41,23 @@ class Settings:
     cors : tuple of str
         Origins allowed to call the API from other pages (none by default).
     scheduler : str or None
-        A Dask scheduler's address (``tcp://HOST:8786``): the clone, compare and video work runs on its cluster, whose
-        jobs every server started on it shares (:mod:`exprclone.server.runtime.cluster`); ``workers`` + ``queue`` then bound the
-        requests at work or waiting on the whole cluster, and ``video_workers`` is not used. None: this machine's
-        worker processes.
+        A Dask scheduler's address (``tcp://HOST:8786``, or ``tls://HOST:8786`` with ``tls``): the clone, compare and
+        video work runs on its cluster, whose jobs every server started on it shares
+        (:mod:`exprclone.server.runtime.cluster`); ``workers`` + ``queue`` then bound the requests at work or waiting on
+        the whole cluster, and ``video_workers`` is not used. None: this machine's worker processes.
+    tls : tuple of str or None
+        The CA certificate, this server's certificate and its private key (PEM files) to reach ``scheduler`` over TLS
+        (Dask's ``Security``: the scheduler and workers started with certificates of the same CA); None: no TLS.
+    worker_wait : float
+        Seconds a request waits for a worker when the Dask cluster has none; then 503, saying so.
+    max_requests_per_client, max_edits_per_client, max_jobs_per_client, max_live_per_client : int
+        A client's share (:mod:`exprclone.server.runtime.clients`): the requests at work or waiting, edits, video jobs
+        and live sessions it may hold at once; beyond, 429 with ``Retry-After`` (the others' requests are served).
+    max_faces : int
+        The most faces of one photo a request clones (``faces``); more chosen: 400.
+    api_keys : frozenset of str
+        The SHA-256 digests of the API keys clients may send (:func:`exprclone.server.runtime.clients.read_keys`); none:
+        every client is named by its address.
     """
 
     workers: int = os.cpu_count() or 1
@@ -61,3 +74,11 @@ class Settings:
     edit_ttl: float = 600.0
     cors: tuple[str, ...] = ()
     scheduler: str | None = None
+    tls: tuple[str, str, str] | None = None
+    worker_wait: float = 30.0
+    max_requests_per_client: int = 4
+    max_edits_per_client: int = 2
+    max_jobs_per_client: int = 2
+    max_live_per_client: int = 1
+    max_faces: int = 16
+    api_keys: frozenset[str] = frozenset()

@@ -28,7 +28,7 @@ import numpy as np
 from .. import drive
 from ..drive import Recording
 from ..drive.framing import resize_portrait, side_by_side
-from ..errors import naming
+from ..errors import ExprCloneError, naming
 from ..evaluation.figures import draw, figure_request
 from ..expressions.editor import Editor
 from ..geometry.eigenface import default_eigenfaces
@@ -41,7 +41,7 @@ from ..landmarks.backends import default_detector
 from ..options import Driving, Framing, Options
 from ..pipeline import request as door
 from ..pipeline.cloner import Prepared
-from ..pipeline.group import Group
+from ..pipeline.group import Group, choose
 from ..pipeline.request import Request
 from ..roles import SOURCE_EXPRESSION, SOURCE_NEUTRAL, TARGET_NEUTRAL
 
@@ -59,7 +59,8 @@ class CloneRequest:
 
     ``options`` are checked but for the given GI, which comes as a file (``global_landmarks``);
     ``figure`` is the compare sheet's, ``given`` the options the form gave (Fig. 19 shows the
-    RBF transfer unless a global warp was given).
+    RBF transfer unless a global warp was given); ``max_faces`` the most faces of the target photo it may clone
+    (:func:`check_faces`).
     """
 
     photos: tuple[Source | None, Source | None, Source]
@@ -70,6 +71,7 @@ class CloneRequest:
     figure: str
     given: frozenset[str]
     expression: str | None
+    max_faces: int | None = None
 
 
 @dataclass(frozen=True)
@@ -140,8 +142,9 @@ def landmarks(upload: Source, max_pixels: int | None, landmarker: str) -> dict[s
 def _request(request: CloneRequest) -> Request:
     """The request's photos decoded (a built-in expression's loaded), their landmark files read, and the clone's options
     (the given GI read from its file): :func:`exprclone.io.inputs.gather`; the landmarks of photos sent without a file
-    placed by the request's landmarker, or remembered from the last time they were sent."""
-    return gather(
+    placed by the request's landmarker, or remembered from the last time they were sent; no more faces to clone than
+    it may (:func:`check_faces`)."""
+    asked = gather(
         request.photos,
         request.landmarks,
         request.options,
@@ -150,6 +153,20 @@ def _request(request: CloneRequest) -> Request:
         max_pixels=request.max_pixels,
         seen=_seen,
     )
+    check_faces(asked, request.max_faces)
+    return asked
+
+
+def check_faces(asked: Request, max_faces: int | None) -> None:
+    """ExprCloneError about ``faces`` when ``asked`` would clone more than ``max_faces`` faces of its target photo (each
+    face's clone takes the time and memory of a portrait's)."""
+    found = asked.target.found
+    if max_faces is None or asked.target.points is not None or not found:
+        return
+    chosen = len(choose(found, asked.options.faces))
+    if chosen > max_faces:
+        advice = "choose some by number (faces=1,3: POST /api/faces lists them)"
+        raise ExprCloneError("faces", f"{chosen} faces of {TARGET_NEUTRAL} chosen; this server clones at most {max_faces}: {advice}")
 
 
 def inputs_of(request: CloneRequest) -> dict[str, str]:
@@ -210,11 +227,12 @@ def prepare_editor(request: CloneRequest, preview: int) -> tuple[Editor, Editor]
 
 
 def compare(request: CloneRequest, extension: str = ".png") -> bytes:
-    """``POST /api/compare``: the sheet of Figs. 11-13, or of Figs. 19-21, encoded as a file of ``extension`` (as
-    ``exprclone compare --figure`` draws them)."""
+    """``POST /api/compare``: the sheet of Figs. 11-13 (by the paper's stages, and this project's default with
+    ``retarget``), or of Figs. 16-17 or 19-21, encoded as a file of ``extension`` (as ``exprclone compare --figure`` draws
+    them)."""
     asked = _request(request)
-    methods, options = figure_request(request.figure, asked.options, "global_warp" in request.given)
-    results = door.prepare(replace(asked, options=options), methods).render()
+    runs = figure_request(request.figure, asked.options, "global_warp" in request.given)
+    results = [door.prepare(replace(asked, options=run.options), run.methods).render() for run in runs]
     return encode_image(draw(request.figure, results, [p.image for p in asked.photos]), extension)
 
 

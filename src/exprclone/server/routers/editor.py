@@ -23,9 +23,10 @@ from .. import work
 from ..answers import ANSWERS, EditorMade, image_answers
 from ..forms import Asked, options_form
 from ..openapi import errors
+from ..runtime.clients import Client
 from ..runtime.edits import PREVIEW, Editing
 from ..runtime.state import Server
-from .uploads import LANDMARK_EXTENSIONS, Landmarks, Photo, read_optional, read_upload
+from .uploads import LANDMARK_EXTENSIONS, EditorId, Landmarks, Photo, read_optional, read_upload
 
 router = APIRouter(tags=["editor"])
 
@@ -80,19 +81,20 @@ async def controls() -> EditorControls:
     return EditorControls(controls=listed)
 
 
-@router.post("/api/editor", status_code=201, responses=errors(400, 413, 422, 503))
-async def make_editor(server: Server, photo: Photo, asked: EditorOptions, landmarks: Landmarks = None) -> EditorMade:
+@router.post("/api/editor", status_code=201, responses=errors(400, 401, 413, 422, 429, 503))
+async def make_editor(server: Server, client: Client, photo: Photo, asked: EditorOptions, landmarks: Landmarks = None) -> EditorMade:
     """Prepare a photo for the expression editor (its largest face, unless its landmarks are given); then
     ``POST /api/editor/{id}/render`` with the controls' values. Kept until ``expires_after`` seconds pass without a
-    render (or ``DELETE /api/editor/{id}``); a server keeps a bounded number (503 with ``Retry-After`` beyond)."""
+    render (or ``DELETE /api/editor/{id}``); a server keeps a bounded number (503 with ``Retry-After`` beyond), and a
+    client its share of them (429), as the edits of ``/api/edits``."""
     sent = await read_upload(photo, "photo")
     marks = await read_optional(landmarks, "landmarks", LANDMARK_EXTENSIONS)
     request = work.CloneRequest(
         (None, None, sent), (None, None, marks), asked.options, server.settings.max_pixels, None, FIGURES[0], asked.given, SHADING
     )
     with naming({TARGET_NEUTRAL: "photo"}):
-        full, preview = await server.run(work.prepare_editor, request, PREVIEW)
-    editor_id = server.editors.add(Editing(full, preview))
+        full, preview = await server.run(client, work.prepare_editor, request, PREVIEW)
+    editor_id = server.editors.add(Editing(full, preview, client))
     (height, width), (preview_height, preview_width) = (e.cloner.faces.target_image.shape[:2] for e in (full, preview))
     return EditorMade(
         id=editor_id,
@@ -105,10 +107,11 @@ async def make_editor(server: Server, photo: Photo, asked: EditorOptions, landma
     )
 
 
-@router.post("/api/editor/{editor_id}/render", responses=image_answers("the photo edited, at the size asked", 400, 404, 413, 503))
+@router.post("/api/editor/{editor_id}/render", responses=image_answers("the photo edited, at the size asked", 400, 401, 404, 413, 429, 503))
 async def render_editor(
     server: Server,
-    editor_id: str,
+    client: Client,
+    editor_id: EditorId,
     values: Values,
     preview: Annotated[bool, Query(description=f"true: the preview, its longest side {PREVIEW} pixels; false: the photo's size")] = True,
     format: Annotated[
@@ -119,12 +122,12 @@ async def render_editor(
     """The photo with the controls at the values given (those not given at 0): tens of milliseconds for a preview."""
     editing = server.editors.get(editor_id)
     extension, media_type = ANSWERS[format or ("jpeg" if preview else "png")]
-    encoded = await server.render(editing.answer, preview, values, extension)
+    encoded = await server.render(client, editing.answer, preview, values, extension)
     return Response(encoded, media_type=media_type)
 
 
 @router.delete("/api/editor/{editor_id}", status_code=204, responses=errors(404))
-async def delete_editor(server: Server, editor_id: str) -> Response:
+async def delete_editor(server: Server, editor_id: EditorId) -> Response:
     """Forget a photo prepared for the editor."""
     server.editors.delete(editor_id)
     return Response(status_code=204)

@@ -49,6 +49,7 @@ from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 
 from ...errors import ExprCloneError, quoted
 from ...options import Framing, Options, from_json
+from ..runtime.clients import HEADER, client_of
 from ..runtime.protocol import POLICY, SEQUENCE, START_SECONDS, Misuse, Slots, check_frame, parse_message, receive, refuse
 from ..runtime.state import Server
 from ..session import SIZES, Session
@@ -78,9 +79,10 @@ async def _start(websocket: WebSocket, executor: ThreadPoolExecutor, slots: Slot
 async def live(websocket: WebSocket, server: Server) -> None:
     """A live session (the protocol is in the module's notes)."""
     await websocket.accept()
-    slots = Slots(server)
+    slots = Slots(server, "")
     executor = ThreadPoolExecutor(1, thread_name_prefix="live")
     try:
+        slots.client = client_of(websocket, websocket.headers.get(HEADER), server.settings.api_keys)
         session = await _start(websocket, executor, slots)
         await websocket.send_json({"type": "ready", "width": session.portrait.shape[1], "height": session.portrait.shape[0]})
         await _follow(websocket, session, executor, server.settings.max_pixels, server.settings.live_idle)

@@ -5,8 +5,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
+from typing import Annotated
 
 from fastapi import APIRouter
+from fastapi import Path as InPath
 from fastapi.responses import FileResponse
 
 from ... import data as samples
@@ -28,8 +30,14 @@ SAMPLES: dict[str, Callable[[], Path]] = {
 }
 
 
-@router.get("/api/samples/{name}", responses=errors(400))
-async def sample(name: str) -> FileResponse:
+#: what a sample is answered as: its file, a photo or a video.
+FILES = {"image/jpeg": {"schema": {"type": "string", "format": "binary"}}, "video/mp4": {"schema": {"type": "string", "format": "binary"}}}
+
+
+@router.get(
+    "/api/samples/{name}", response_class=FileResponse, responses={200: {"content": FILES, "description": "the file"}, **errors(400)}
+)
+async def sample(name: Annotated[str, InPath(json_schema_extra={"enum": list(SAMPLES)})]) -> FileResponse:
     """A sample shipped in the package (:mod:`exprclone.data`): ``source_neutral``, ``source_expression``,
     ``target_neutral``, ``portrait`` or ``driving_video``."""
     if name not in SAMPLES:

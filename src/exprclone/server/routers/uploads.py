@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Annotated, Any
 
 from fastapi import Depends, File, Form, UploadFile
+from fastapi import Path as InPath
 from pydantic import WithJsonSchema
 
 from ... import expressions
@@ -19,6 +20,12 @@ from .. import work
 from ..forms import Asked, options_form
 from ..runtime.state import Work
 
+#: the id of a video job, an edit or an editor's photo in a path, as the schema describes it: what the server made is 32 hex digits, and
+#: anything else is answered 404 (unknown), as an id it does not know.
+ID_LENGTH = {"minLength": 32, "maxLength": 32}
+JobId = Annotated[str, InPath(description="the job's id, as POST /api/video answered it", json_schema_extra=ID_LENGTH)]
+EditId = Annotated[str, InPath(description="the edit's id, as POST /api/edits answered it", json_schema_extra=ID_LENGTH)]
+EditorId = Annotated[str, InPath(description="the photo's id, as POST /api/editor answered it", json_schema_extra=ID_LENGTH)]
 #: the landmark files of a clone, by form field: each photo's role (the form field of the photo) and ``_landmarks``.
 LANDMARK_FIELDS = tuple(f"{role}_landmarks" for role in ROLES)
 #: what the landmark files may be (their client file name's extension is the only part of it used).
@@ -79,7 +86,8 @@ async def clone_request(server: Work, uploads: dict[str, Any], asked: Asked, fig
     ]
     given = await read_optional(uploads["global_landmarks"], "global_landmarks", LANDMARK_EXTENSIONS)
     photos, marked = (sn, se, tn), (marks[0], marks[1], marks[2])
-    return work.CloneRequest(photos, marked, asked.options, server.settings.max_pixels, given, figure, asked.given, expression)
+    settings = server.settings
+    return work.CloneRequest(photos, marked, asked.options, settings.max_pixels, given, figure, asked.given, expression, settings.max_faces)
 
 
 def source_roles(uploads: dict[str, UploadFile | None], expression: str | None) -> tuple[str, ...]:
@@ -102,7 +110,11 @@ async def clone_uploads(
     source_neutral: SourcePhoto = None,
     source_expression: SourcePhoto = None,
     expression: Annotated[
-        str | None, Form(description="a built-in expression (GET /api/expressions) instead of source_neutral and source_expression")
+        str | None,
+        Form(
+            description="a built-in expression (GET /api/expressions) instead of source_neutral and source_expression",
+            json_schema_extra={"enum": list(expressions.names())},
+        ),
     ] = None,
     source_neutral_landmarks: Landmarks = None,
     source_expression_landmarks: Landmarks = None,

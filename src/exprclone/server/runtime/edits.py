@@ -10,8 +10,9 @@ options (:data:`exprclone.options.RENDER`: the strengths, ``only``, ``mouth``) o
 of its own: tens of milliseconds at the preview's size, against seconds for a clone.
 
 Bounds: at most ``Settings.max_edits`` edits are kept (another is refused with 503 and
-``Retry-After``), each until ``Settings.edit_ttl`` seconds pass without a render, or its
-``DELETE``; ids are random (128 bits), as the video jobs' are.
+``Retry-After``), and ``Settings.max_edits_per_client`` of one client (then 429: one client
+renewing its edits cannot keep the others out), each until ``Settings.edit_ttl`` seconds pass
+without a render, or its ``DELETE``; ids are random (128 bits), as the video jobs' are.
 """
 
 from __future__ import annotations
@@ -24,10 +25,11 @@ import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Generic, Protocol, TypeVar
 
+from ...errors import quoted
 from ...io.images import encode_image
 from ...io.record import result_record
 from .jobs import JOB_ID, NoSuchJob
-from .limits import Busy
+from .limits import Busy, share
 
 if TYPE_CHECKING:
     from ...expressions.editor import Editor
@@ -56,6 +58,8 @@ class Edit:
         What each photo was, for the record (:func:`exprclone.server.work.inputs_of`).
     landmarker : str or None
         Which landmarker placed landmarks, for the record.
+    client : str
+        Whose it is (:mod:`exprclone.server.runtime.clients`).
     used : float
         When it was made or last rendered (``time.time()``).
     """
@@ -64,6 +68,7 @@ class Edit:
     preview: Prepared | Group
     inputs: dict[str, str]
     landmarker: str | None
+    client: str = ""
     used: float = field(default_factory=time.time)
 
     def render(self, preview: bool, changes: dict[str, Any]) -> CloneResult:
@@ -89,12 +94,15 @@ class Editing:
     full, preview : Editor
         The photo's editor (:class:`exprclone.expressions.editor.Editor`) at its size, and at the preview's (the same
         object when the photo is no larger).
+    client : str
+        Whose it is (:mod:`exprclone.server.runtime.clients`).
     used : float
         When it was made or last rendered (``time.time()``).
     """
 
     full: Editor
     preview: Editor
+    client: str = ""
     used: float = field(default_factory=time.time)
 
     def answer(self, preview: bool, values: dict[str, float], extension: str) -> bytes:
@@ -103,8 +111,9 @@ class Editing:
 
 
 class Kept(Protocol):
-    """What the server keeps for a client to render again: when it was last used."""
+    """What the server keeps for a client to render again: whose it is, and when it was last used."""
 
+    client: str
     used: float
 
 
@@ -112,20 +121,28 @@ K = TypeVar("K", bound=Kept)
 
 
 class Edits(Generic[K]):
-    """The server's edits (or editors): at most ``limit`` kept, each until ``ttl`` seconds pass without a render."""
+    """The server's edits (or the editor's photos): at most ``limit`` kept, and ``per_client`` of one client, each until
+    ``ttl`` seconds pass without a render."""
 
-    def __init__(self, limit: int, ttl: float) -> None:
-        self.limit, self.ttl = limit, ttl
+    def __init__(self, limit: int, ttl: float, per_client: int | None = None) -> None:
+        self.limit, self.ttl, self.per_client = limit, ttl, per_client or limit
         self._edits: dict[str, K] = {}
         self._lock = threading.Lock()  # renders look edits up from threads
 
     def add(self, edit: K) -> str:
-        """Keep ``edit``; its id. :class:`Busy` when ``limit`` are kept already."""
+        """Keep ``edit``; its id. :class:`Busy` when ``limit`` are kept already, :class:`~exprclone.server.runtime.limits.TooMany`
+        when ``per_client`` of its client's are. ``Retry-After``: when the least recently used may expire (if it is not
+        rendered again)."""
         with self._lock:
-            self._expire(time.time())
+            now = time.time()
+            self._expire(now)
+            own = [e.used for e in self._edits.values() if e.client == edit.client]
             if len(self._edits) >= self.limit:
-                wait = max(1, math.ceil(min(e.used for e in self._edits.values()) + self.ttl - time.time()))
+                wait = max(1, math.ceil(min(e.used for e in self._edits.values()) + self.ttl - now))
                 raise Busy(f"{self.limit} edits are kept; try again in {wait} s (when the least recently used expires)", wait)
+            if len(own) >= self.per_client:
+                wait = max(1, math.ceil(min(own) + self.ttl - now))
+                raise share(self.per_client, "edits", wait, "its least recently used expires, or it deletes one")
             edit_id = secrets.token_hex(16)
             self._edits[edit_id] = edit
             return edit_id
@@ -135,7 +152,7 @@ class Edits(Generic[K]):
         with self._lock:
             self._expire(time.time())
             if not JOB_ID.fullmatch(edit_id) or edit_id not in self._edits:
-                raise NoSuchEdit(f"no edit {edit_id!r} (unknown, deleted, or expired after {self.ttl:g} s unused)")
+                raise NoSuchEdit(f"no edit {quoted(edit_id)} (unknown, deleted, or expired after {self.ttl:g} s unused)")
             edit = self._edits[edit_id]
             edit.used = time.time()
             return edit

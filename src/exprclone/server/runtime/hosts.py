@@ -21,6 +21,7 @@ is small against this machine's noise: two sessions at 512 pixels, with and with
 from __future__ import annotations
 
 import multiprocessing
+import os
 import threading
 import weakref
 from collections.abc import Callable
@@ -34,14 +35,15 @@ from ...errors import ExprCloneError
 from ...io.images import load_image
 from ...options import Options
 from ..session import Session
-from ..work import load_models
+from .lifeline import start_worker
 
 
-def serve(connection: Connection) -> None:
+def serve(connection: Connection, parent: int) -> None:
     """A host process's loop: ``("start", (portrait bytes, max_pixels, arguments of Session))``, then calls of the
-    session's methods ``(name, arguments)``, then ``("end", ())``; each answered ``("ok", result)`` or ``("error", e)``."""
+    session's methods ``(name, arguments)``, then ``("end", ())``; each answered ``("ok", result)`` or ``("error", e)``.
+    It ends with the server ``parent`` (:mod:`exprclone.server.runtime.lifeline`)."""
     cv2.setNumThreads(1)  # the session's frames are small: its other cores serve the other sessions (module docstring)
-    load_models()
+    start_worker(parent)
     session: Session | None = None
     while True:
         try:
@@ -68,7 +70,8 @@ class Host:
 
     def __init__(self) -> None:
         self.connection, child = multiprocessing.get_context("spawn").Pipe()
-        self.process = multiprocessing.get_context("spawn").Process(target=serve, args=(child,), daemon=True, name="exprclone-live")
+        spawned = multiprocessing.get_context("spawn")
+        self.process = spawned.Process(target=serve, args=(child, os.getpid()), daemon=True, name="exprclone-live")
         self.process.start()
         child.close()
         self._lock = threading.Lock()  # one call at a time on the pipe, whichever thread makes it

@@ -5,27 +5,29 @@ A job is created with its inputs saved in its folder, runs in the video worker
 removed :data:`Jobs.ttl` seconds after it ends (or at shutdown). A job that fails gives
 its place back at once: its files are removed then, and only its error is kept (until it
 expires, and at most :data:`FAILED_KEPT` of them). Job ids are random
-(128 bits) and checked against their form before any path is built from them.
+(128 bits) and checked against their form before any path is built from them: a job's state
+and result are read with its id alone, which only the client that made it is told.
 
-The rules on a store of jobs (:func:`check_room`, :func:`expired`, :func:`job_error`) are
+Each job counts in its client's share (:mod:`exprclone.server.runtime.clients`) as in the
+store's bound. The rules on a store of jobs (:func:`check_room`, :func:`expired`, :func:`job_error`) are
 also those of the jobs a Dask cluster keeps for several servers (:mod:`exprclone.server.runtime.shared_jobs`).
 """
 
 from __future__ import annotations
 
+import asyncio
 import json
 import math
 import re
 import secrets
 import shutil
 import time
-from concurrent.futures import Future
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ...errors import ExprCloneError
-from .limits import Busy
+from ...errors import ExprCloneError, quoted
+from .limits import Busy, share
 
 #: a job id: 32 hex digits.
 JOB_ID = re.compile(r"[0-9a-f]{32}")
@@ -41,7 +43,7 @@ class NoSuchJob(Exception):
     @classmethod
     def of(cls, job_id: str, ttl: float) -> NoSuchJob:
         """The error about ``job_id``, in a store whose jobs expire ``ttl`` seconds after they end."""
-        return cls(f"no job {job_id!r} (unknown, or expired after {ttl:g} s)")
+        return cls(f"no job {quoted(job_id)} (unknown, or expired after {ttl:g} s)")
 
 
 class JobNotDone(Exception):
@@ -57,9 +59,11 @@ class Job:
     id : str
     folder : Path
         Holds the driving video, the progress file and the result.
+    client : str
+        Whose it is (:mod:`exprclone.server.runtime.clients`).
     created : float
         When it was created (``time.time()``).
-    future : Future or None
+    future : asyncio.Future or None
         The work, once submitted.
     ended : float or None
         When its work ended.
@@ -67,8 +71,9 @@ class Job:
 
     id: str
     folder: Path
+    client: str = ""
     created: float = field(default_factory=time.time)
-    future: Future[dict[str, Any]] | None = None
+    future: asyncio.Future[dict[str, Any]] | None = None
     ended: float | None = None
 
     @property
@@ -109,7 +114,8 @@ class Job:
 
 
 class Jobs:
-    """The server's video jobs, at most ``limit`` of them kept, each for ``ttl`` seconds after it ends.
+    """The server's video jobs, at most ``limit`` of them kept and ``per_client`` of one client, each for ``ttl`` seconds
+    after it ends.
 
     Parameters
     ----------
@@ -117,18 +123,21 @@ class Jobs:
         The server's temporary folder; jobs live in ``root/jobs/<id>``.
     limit : int
     ttl : float
+    per_client : int
     """
 
-    def __init__(self, root: Path, limit: int, ttl: float) -> None:
-        self.root, self.limit, self.ttl = root / "jobs", limit, ttl
+    def __init__(self, root: Path, limit: int, ttl: float, per_client: int | None = None) -> None:
+        self.root, self.limit, self.ttl, self.per_client = root / "jobs", limit, ttl, per_client or limit
         self.root.mkdir(parents=True, exist_ok=True)
         self._jobs: dict[str, Job] = {}
 
-    def create(self) -> Job:
-        """A new job with its folder, or :class:`Busy` when ``limit`` jobs are kept already (failed ones aside)."""
+    def create(self, client: str = "") -> Job:
+        """A new job of ``client`` with its folder, or :class:`Busy` when ``limit`` jobs are kept already (failed ones
+        aside), :class:`~exprclone.server.runtime.limits.TooMany` when the client's share is."""
         self.expire()
-        check_room([job.ended for job in self._jobs.values() if not job.failed], self.limit, self.ttl)
-        job = Job(secrets.token_hex(16), Path())
+        kept = [(job.ended, job.client) for job in self._jobs.values() if not job.failed]
+        check_room(kept, self.limit, self.ttl, client, self.per_client)
+        job = Job(secrets.token_hex(16), Path(), client)
         job.folder = self.root / job.id
         job.folder.mkdir()
         self._jobs[job.id] = job
@@ -151,10 +160,16 @@ class Jobs:
         for job_id in expired(kept, self.ttl, time.time() if now is None else now):
             self.discard(self._jobs[job_id])
 
-    def start(self, job: Job, future: Future[dict[str, Any]]) -> None:
+    def start(self, job: Job, future: asyncio.Future[dict[str, Any]]) -> None:
         """Follow the job's work; it ends (and its time to live starts) when the work does."""
         job.future = future
         future.add_done_callback(lambda _: job.ended_now())
+
+    def close(self) -> None:
+        """Cancel the work of every job not ended (the server stops)."""
+        for job in self._jobs.values():
+            if job.future is not None:
+                job.future.cancel()
 
 
 def answer(job_id: str, report: dict[str, Any]) -> dict[str, Any]:
@@ -171,15 +186,25 @@ def answer(job_id: str, report: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def check_room(kept: list[float | None], limit: int, ttl: float) -> None:
+def check_room(kept: list[tuple[float | None, str]], limit: int, ttl: float, client: str = "", per_client: int | None = None) -> None:
     """:class:`Busy` when ``limit`` jobs are kept (failed ones aside; ``kept`` is when each ended, None while queued or
-    running): ``Retry-After`` the seconds until the first done one expires, or :data:`RETRY_RUNNING` while none is."""
-    if len(kept) < limit:
-        return
+    running, and whose it is), :class:`~exprclone.server.runtime.limits.TooMany` when ``per_client`` of them are
+    ``client``'s: ``Retry-After`` the seconds until the first done one (of those that count) expires, or
+    :data:`RETRY_RUNNING` while none is."""
+    if len(kept) >= limit:
+        wait, why = _room_in([ended for ended, _ in kept], ttl)
+        raise Busy(f"{limit} video jobs are queued, running or kept; try again in {wait} s (when {why})", wait)
+    own = [ended for ended, whose in kept if whose == client]
+    if per_client is not None and len(own) >= per_client:
+        wait, why = _room_in(own, ttl)
+        raise share(per_client, "video jobs (queued, running or kept)", wait, why)
+
+
+def _room_in(kept: list[float | None], ttl: float) -> tuple[int, str]:
+    """Seconds until one of the jobs ``kept`` (when each ended, None while queued or running) gives its place, and when."""
     ends = [ended + ttl for ended in kept if ended is not None]
     wait = max(1, math.ceil(min(ends) - time.time())) if ends else RETRY_RUNNING
-    why = "the first done one expires" if ends else "one ends"
-    raise Busy(f"{limit} video jobs are queued, running or kept; try again in {wait} s (when {why})", wait)
+    return wait, "the first done one expires" if ends else "one ends"
 
 
 def expired(jobs: list[tuple[str, float | None, bool]], ttl: float, now: float) -> list[str]:
@@ -191,6 +216,7 @@ def expired(jobs: list[tuple[str, float | None, bool]], ttl: float, now: float) 
 
 
 def job_error(error: BaseException) -> str:
-    """What a failed job's state says of the error that ended it: a user's error (ExprCloneError) as it is worded, any
-    other as an internal error (its details are the server's log's, not a client's)."""
-    return str(error) if isinstance(error, ExprCloneError) else "the job failed (internal error)"
+    """What a failed job's state says of the error that ended it: a user's error (ExprCloneError) or a worker lost
+    (:class:`~exprclone.server.runtime.limits.Busy`) as it is worded, any other as an internal error (its details are
+    the server's log's, not a client's)."""
+    return str(error) if isinstance(error, (ExprCloneError, Busy)) else "the job failed (internal error)"

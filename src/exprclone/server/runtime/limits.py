@@ -1,28 +1,67 @@
-"""What keeps a user from making the server hold unbounded memory or work: the upload limit and the work queue."""
+"""What keeps a user from making the server hold unbounded memory or work, and one client from taking every place: the
+upload limit, the work queue with each client's share of it, a client's pace, and how a refusal says when to come back."""
 
 from __future__ import annotations
 
+import contextlib
 import json
+import math
+import statistics
 import threading
+import time
+from collections import Counter, deque
+from collections.abc import Iterator
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-#: seconds a client is told to wait (``Retry-After``) when the work queue is full.
+#: seconds a client is told to wait (``Retry-After``) when the work queue is full and no request has been timed yet.
 RETRY_AFTER = 2
+#: the requests whose times :class:`Timing` keeps.
+TIMED = 32
 
 
 class Busy(Exception):
-    """The work queue is full: answered 503 with ``Retry-After: retry_after`` (seconds; the message says the same)."""
+    """The server cannot take the request now (its work queue is full, a worker stopped, no worker is there): answered
+    503 with ``Retry-After: retry_after`` (seconds; the message says why, and the same wait)."""
 
     def __init__(self, message: str, retry_after: int = RETRY_AFTER) -> None:
         super().__init__(message)
         self.retry_after = retry_after
 
 
-def full(limit: int) -> Busy:
+class Timing:
+    """How long the last :data:`TIMED` requests took at work or waiting, to say honestly when a full queue has room:
+    about when one of those at work ends (:meth:`retry_after`)."""
+
+    def __init__(self) -> None:
+        self.seconds: deque[float] = deque(maxlen=TIMED)
+
+    @contextlib.contextmanager
+    def timed(self) -> Iterator[None]:
+        start = time.monotonic()
+        try:
+            yield
+        finally:
+            self.seconds.append(time.monotonic() - start)
+
+    def retry_after(self, workers: int) -> int:
+        """Seconds until a place is likely free: a typical request's time (the median) shared by ``workers`` at work."""
+        if not self.seconds:
+            return RETRY_AFTER
+        return max(1, math.ceil(statistics.median(self.seconds) / max(workers, 1)))
+
+
+def full(limit: int, wait: int = RETRY_AFTER) -> Busy:
     """What a request is answered when ``limit`` requests are at work or waiting already (on this server, or on a Dask
-    cluster: :class:`exprclone.server.runtime.cluster.Cluster`)."""
-    return Busy(f"the server is busy ({limit} requests at work or waiting); try again in {RETRY_AFTER} s")
+    cluster: :class:`exprclone.server.runtime.cluster.Cluster`), told to come back in ``wait`` seconds."""
+    return Busy(f"the server is busy ({limit} requests at work or waiting); try again in {wait} s", wait)
+
+
+def share(client_limit: int, what: str, wait: int, when: str = "") -> TooMany:
+    """What a client is answered when it holds ``client_limit`` of ``what`` already (its share), told to come back in
+    ``wait`` seconds (``when`` says what frees a place): 429, whatever the others hold."""
+    said = f" (when {when})" if when else ""
+    return TooMany(f"this client holds {client_limit} {what} already, its share; try again in {wait} s{said}", wait)
 
 
 class Paced:
@@ -62,22 +101,34 @@ class TooMany(Exception):
 
 
 class Gate:
-    """At most ``limit`` requests at work or waiting for a worker; the next is refused (:class:`Busy`).
+    """At most ``limit`` requests at work or waiting for a worker, and ``per_client`` of one client; the next is refused
+    (:class:`Busy`, or for the client :class:`TooMany`), told when a place is likely free (:class:`Timing`:
+    ``workers`` work at once).
 
-    Used from the event loop only, so a plain counter is safe.
+    Used from the event loop only, so plain counters are safe.
     """
 
-    def __init__(self, limit: int) -> None:
-        self.limit, self.inside = limit, 0
+    def __init__(self, limit: int, workers: int, per_client: int) -> None:
+        self.limit, self.workers, self.per_client = limit, workers, per_client
+        self.inside: Counter[str] = Counter()
+        self.timing = Timing()
 
-    def __enter__(self) -> "Gate":
-        if self.inside >= self.limit:
-            raise full(self.limit)
-        self.inside += 1
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.inside -= 1
+    @contextlib.contextmanager
+    def entered(self, client: str) -> Iterator[None]:
+        """Inside the gate for the block, as ``client``'s request."""
+        wait = self.timing.retry_after(self.workers)
+        if self.inside[client] >= self.per_client:
+            raise share(self.per_client, "requests at work or waiting", wait)
+        if self.inside.total() >= self.limit:
+            raise full(self.limit, wait)
+        self.inside[client] += 1
+        try:
+            with self.timing.timed():
+                yield
+        finally:
+            self.inside[client] -= 1
+            if not self.inside[client]:
+                del self.inside[client]
 
 
 async def _answer(send: Send, status: int, error: str) -> None:

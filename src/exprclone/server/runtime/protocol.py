@@ -12,6 +12,7 @@ import contextlib
 import io
 import json
 import struct
+from collections import Counter
 from typing import Any, Literal, overload
 
 from fastapi import WebSocket, WebSocketDisconnect
@@ -121,23 +122,28 @@ async def refuse(websocket: WebSocket, error: ExprCloneError, code: int) -> None
 
 
 class Slots:
-    """The live sessions of the server (``Work.live_sessions``, at most ``Settings.max_live``): one taken by a connection
-    from its start message, given back when it closes."""
+    """The live sessions of the server (``Work.live_sessions``, by client: at most ``Settings.max_live``, and
+    ``Settings.max_live_per_client`` of one client): one taken by a connection from its start message, given back when it
+    closes."""
 
-    def __init__(self, work: Work) -> None:
-        self.work, self.held = work, False
+    def __init__(self, work: Work, client: str) -> None:
+        self.work, self.client, self.held = work, client, False
 
     def take(self) -> None:
-        """A slot for this connection, or :class:`Misuse` (try again later) when every one is taken."""
-        limit = self.work.settings.max_live
+        """A slot for this connection, or :class:`Misuse` (try again later) when every one is taken, or the client's share."""
+        limit, share = self.work.settings.max_live, self.work.settings.max_live_per_client
+        sessions = self.work.live_sessions
         if limit == 0:
             raise Misuse("live", "live mode is off on this server (serve --max-live 0)", POLICY)
-        if self.work.live_sessions >= limit:
+        if sessions.total() >= limit:
             raise Misuse("live", f"{limit} sessions are running already; try again later", TRY_LATER)
-        self.work.live_sessions += 1
+        if sessions[self.client] >= share:
+            raise Misuse("live", f"this client runs {share} sessions already, its share; try again later", TRY_LATER)
+        sessions[self.client] += 1
         self.held = True
 
     def release(self) -> None:
         if self.held:
-            self.work.live_sessions -= 1
+            self.work.live_sessions[self.client] -= 1
+            self.work.live_sessions += Counter()  # (a client with none is forgotten)
             self.held = False

@@ -1,9 +1,12 @@
-// exprclone's page: drop zones with previews and landmarks, clone, compare, video jobs. No build step. The option
-// controls are drawn from the server's description of its options (options.js), and sent by their keys.
+// exprclone's page: a photo and an expression (built-in, or two photos of someone), the strengths' sliders, the result
+// large with a full-size view; the paper's choices under "Advanced"; video jobs. No build step. The option controls are
+// drawn from the server's description of its options (options.js), and sent by their keys.
 "use strict";
 
 const $ = (selector) => document.querySelector(selector);
 const POLL_EVERY = 500; // ms between two looks at a video job
+const THUMBNAIL = 256; // pixels of a face's thumbnail canvas (shown at 8rem)
+const FACE_MARGIN = 0.4; // a face's thumbnail shows its box grown by this share of its width on every side
 
 // The server names inputs by their form field ("target_neutral: no face found"); the page by their label.
 // "target_neutral: no face found" -> "target neutral: no face found"
@@ -15,7 +18,7 @@ function say(message) {
   box.hidden = !message;
 }
 
-// the clone's role warnings (photos that look swapped, or of two people), beside its result
+// the clone's role warnings (photos that look swapped, or of two people, or one photo given twice), beside its result
 function warn(messages) {
   const box = $("#warning");
   box.textContent = messages.map(readable).join(" ");
@@ -29,6 +32,19 @@ function busy(on) {
 
 function fileOf(field) {
   return document.getElementById(field).files[0];
+}
+
+function zoneOf(field) {
+  return document.querySelector(`.zone[data-field="${field}"]`);
+}
+
+// what is wrong with a zone's photo, in the zone itself, as soon as it is chosen ("" when nothing is)
+function problem(zone, message) {
+  const box = zone.querySelector(".problem");
+  zone.problem = message;
+  if (!box) return;
+  box.textContent = message;
+  box.hidden = !message;
 }
 
 // --- drop zones, previews, landmarks ----------------------------------------------------
@@ -59,7 +75,7 @@ function faceBox(number) {
 function drawFaces(context, scale) {
   context.lineWidth = 2;
   context.font = "bold 13px sans-serif";
-  for (const face of $(".zone[data-field=target_neutral]").faces.faces) {
+  for (const face of zoneOf("target_neutral").faces.faces) {
     const [left, top, right, bottom] = face.box.map((v) => v * scale);
     const taken = faceBox(face.number).checked;
     context.strokeStyle = context.fillStyle = face.problem ? "#e53935" : taken ? "#00e676" : "#9e9e9e";
@@ -100,8 +116,8 @@ async function findFaces(zone, file) {
 }
 
 // a click on the target's preview toggles the face under it
-$(".zone[data-field=target_neutral] canvas").addEventListener("click", (event) => {
-  const zone = $(".zone[data-field=target_neutral]");
+zoneOf("target_neutral").querySelector("canvas").addEventListener("click", (event) => {
+  const zone = zoneOf("target_neutral");
   if (!zone.faces) return;
   const canvas = event.currentTarget;
   const scale = zone.faces.width / canvas.clientWidth;
@@ -115,7 +131,7 @@ $(".zone[data-field=target_neutral] canvas").addEventListener("click", (event) =
 
 // the faces field: the numbers of the faces taken, "all" when no face is left out, nothing for a photo of one face
 function facesAsked() {
-  const zone = $(".zone[data-field=target_neutral]");
+  const zone = zoneOf("target_neutral");
   if (!zone.faces) return null;
   const boxes = [...$("#faces").querySelectorAll("input")];
   const taken = boxes.filter((b) => b.checked).map((b) => b.value);
@@ -123,27 +139,31 @@ function facesAsked() {
   return boxes.every((b) => b.checked || b.disabled) ? "all" : taken.join(",");
 }
 
+// a photo chosen: shown, and looked at by the server at once (its landmarks; a target's faces), so that what is wrong
+// with it (no face, too small, not an image) is said in its zone before Clone; only the newest choice of a zone counts
 async function preview(zone) {
-  const input = zone.querySelector("input");
-  const file = input.files[0];
+  const file = zone.querySelector("input").files[0];
   const media = zone.querySelector("img, video");
+  const chosen = (zone.chosen = {});
   zone.found = null;
+  problem(zone, "");
   if (zone.dataset.field === "target_neutral") clearFaces(zone);
   if (!file) return;
   media.src = URL.createObjectURL(file);
   if (media.tagName !== "IMG") return;
-  await new Promise((resolve) => { media.onload = resolve; });
+  await new Promise((resolve) => { media.onload = resolve; media.onerror = resolve; }); // (the server says what a bad file is)
   try {
     const form = new FormData();
     form.append("photo", file);
     await addLandmarker(form);
-    zone.found = await (await call("/api/landmarks", { method: "POST", body: form })).json();
+    const found = await (await call("/api/landmarks", { method: "POST", body: form })).json();
+    if (zone.chosen !== chosen) return;
+    zone.found = found;
     if (zone.dataset.field === "target_neutral") await findFaces(zone, file);
-    say("");
   } catch (e) {
-    say(e.message.replace(/^photo:/, zone.dataset.field + ":"));
+    if (zone.chosen === chosen) problem(zone, e.message.replace(/^photo: /, ""));
   }
-  drawLandmarks(zone, zone.found);
+  if (zone.chosen === chosen && media.naturalWidth) drawLandmarks(zone, zone.found);
 }
 
 function setFile(input, file) {
@@ -179,10 +199,10 @@ async function loadSamples(fields) {
     say(e.message);
   }
 }
-$("#samples").addEventListener("click", () => loadSamples(["source_neutral", "source_expression", "target_neutral"]));
+$("#samples").addEventListener("click", () => loadSamples(["target_neutral", "source_neutral", "source_expression"]));
 $("#video-samples").addEventListener("click", () => loadSamples(["portrait", "driving_video"]));
 
-// --- a built-in expression instead of the source's two photos ------------------------------
+// --- the expression: a built-in one, or the source's two photos ------------------------------
 const SOURCES = ["source_neutral", "source_expression"];
 
 function builtIn() {
@@ -190,7 +210,8 @@ function builtIn() {
 }
 function showSourceKind() {
   $("#expression").disabled = !builtIn();
-  for (const field of SOURCES) document.querySelector(`.zone[data-field="${field}"]`).hidden = builtIn();
+  $("#source-zones").hidden = builtIn();
+  for (const field of SOURCES) zoneOf(field).hidden = builtIn();
 }
 for (const radio of document.querySelectorAll('input[name="source-kind"]')) radio.addEventListener("change", showSourceKind);
 
@@ -237,14 +258,19 @@ async function addOptions(form, values, slidersOnly = false) {
   for (const [key, value] of Object.entries(optionValues(chosen))) form.append(key, value);
 }
 
+// the photos a clone needs, each chosen and with nothing wrong said of it (else an Error naming it)
+function photosAsked(fields) {
+  for (const field of fields) {
+    if (!fileOf(field)) throw new Error(`${field}: choose a photo`);
+    if (zoneOf(field).problem) throw new Error(`${field}: ${zoneOf(field).problem}`);
+  }
+  return fields;
+}
+
 async function cloneForm(withMethod) {
   const form = new FormData();
   if (builtIn()) form.append("expression", $("#expression").value);
-  for (const field of builtIn() ? ["target_neutral"] : [...SOURCES, "target_neutral"]) {
-    const file = fileOf(field);
-    if (!file) throw new Error(`${field}: choose a photo`);
-    form.append(field, file);
-  }
+  for (const field of photosAsked(builtIn() ? ["target_neutral"] : [...SOURCES, "target_neutral"])) form.append(field, fileOf(field));
   const faces = facesAsked();
   if (faces) form.append("faces", faces);
   await addOptions(form, ["Options"]);
@@ -254,7 +280,7 @@ async function cloneForm(withMethod) {
 }
 
 // --- clone: a prepared clone (an edit) on the server, rendered again as the sliders move -------------------------------
-let shown = { result: null, before: null };
+let shown = { result: null, full: null, before: null, faces: [] };
 let edit = null; // the server's prepared clone: {id, render, ...} (POST /api/edits)
 let wanted = null; // the render asked for next: "preview" or "full"
 let rendering = false;
@@ -276,10 +302,14 @@ async function caption(record) {
   return `${record.method}${source}${lambda}${faces}${how.map((h) => `, ${h}`).join("")}. `;
 }
 
+function showingBefore() {
+  return $("#toggle").getAttribute("aria-pressed") === "true";
+}
+
 // the result on screen (unless "before" is shown: then the toggle shows it), once the browser has decoded it
 function showImage(src) {
   const img = $("#result");
-  if ($("#toggle").getAttribute("aria-pressed") === "true") return Promise.resolve();
+  if (showingBefore()) return Promise.resolve();
   return new Promise((resolve) => { img.onload = resolve; img.onerror = resolve; img.src = src; });
 }
 
@@ -297,12 +327,14 @@ async function renderEdit(size) {
     window.previewTimes.push(performance.now() - since);
   } else {
     const record = await (await call(`${edit.render}?preview=false&format=json`, { method: "POST", body: form })).json();
-    shown.result = `data:image/png;base64,${record.png}`;
+    shown.full = shown.result = `data:image/png;base64,${record.png}`;
     delete record.png;
     await showImage(shown.result);
     $("#result-caption").textContent = await caption(record);
     $("#download-png").href = shown.result;
     $("#download-json").href = URL.createObjectURL(new Blob([JSON.stringify(record, null, 1)], { type: "application/json" }));
+    await showFaces(record.faces.filter((face) => !face.problem));
+    if ($("#viewer").open) showInViewer();
   }
   $("#result").dataset.rendered = JSON.stringify({ size, ...values });
 }
@@ -325,15 +357,23 @@ async function refresh(size) {
   }
 }
 
+function showBefore(before) {
+  $("#toggle").setAttribute("aria-pressed", String(before));
+  $("#toggle").textContent = before ? "Show after" : "Show before";
+  $("#result").src = before ? shown.before : shown.result;
+  showInViewer();
+}
+
 $("#clone").addEventListener("click", async () => {
   say("");
   warn([]);
   busy(true);
   try {
+    const form = await cloneForm(true);
     forget();
-    edit = await (await call("/api/edits", { method: "POST", body: await cloneForm(true) })).json();
+    edit = await (await call("/api/edits", { method: "POST", body: form })).json();
+    if (shown.before) URL.revokeObjectURL(shown.before);
     shown.before = URL.createObjectURL(fileOf("target_neutral"));
-    $("#before").src = shown.before;
     $("#toggle").setAttribute("aria-pressed", "false");
     $("#toggle").textContent = "Show before";
     await renderEdit("full");
@@ -346,13 +386,55 @@ $("#clone").addEventListener("click", async () => {
   }
 });
 
-$("#toggle").addEventListener("click", () => {
-  const before = $("#toggle").getAttribute("aria-pressed") !== "true";
-  $("#result").src = before ? shown.before : shown.result;
-  $("#toggle").setAttribute("aria-pressed", String(before));
-  $("#toggle").textContent = before ? "Show after" : "Show before";
-});
+$("#toggle").addEventListener("click", () => showBefore(!showingBefore()));
+$("#viewer-toggle").addEventListener("click", () => showBefore(!showingBefore()));
 
+// --- the full-size view: the result (or the photo before) at its own pixels, in a dialog that scrolls ---------------
+function showInViewer() {
+  const image = $("#viewer-image");
+  const source = showingBefore() ? shown.before : shown.full;
+  if (source && image.getAttribute("src") !== source) image.src = source;
+  $("#viewer-toggle").setAttribute("aria-pressed", String(showingBefore()));
+  $("#viewer-toggle").textContent = showingBefore() ? "Show after" : "Show before";
+}
+
+// open the full-size view; with a face (a group photo's), scrolled to it
+async function openViewer(face = null) {
+  showInViewer();
+  const image = $("#viewer-image");
+  if (!image.complete || !image.naturalWidth) await new Promise((resolve) => { image.onload = resolve; image.onerror = resolve; });
+  $("#viewer-title").textContent = `Full size: ${image.naturalWidth} × ${image.naturalHeight} pixels${face ? `, face ${face.number}` : ""}`;
+  $("#viewer").showModal();
+  const area = $("#viewer .canvas");
+  const [left, top, right, bottom] = face ? face.box : [0, 0, image.naturalWidth, image.naturalHeight];
+  area.scrollLeft = image.offsetLeft + (left + right) / 2 - area.clientWidth / 2;
+  area.scrollTop = image.offsetTop + (top + bottom) / 2 - area.clientHeight / 2;
+}
+$("#full-size").addEventListener("click", () => openViewer());
+$("#result-open").addEventListener("click", () => openViewer());
+$("#viewer-close").addEventListener("click", () => $("#viewer").close());
+
+// a group photo's cloned faces, each a thumbnail of the result that opens the full-size view on it
+async function showFaces(faces) {
+  const list = $("#result-faces .thumbnails");
+  list.replaceChildren();
+  $("#result-faces").hidden = faces.length < 2;
+  if (faces.length < 2) return;
+  const image = new Image();
+  await new Promise((resolve) => { image.onload = resolve; image.onerror = resolve; image.src = shown.full; });
+  for (const face of faces) {
+    const [left, top, right, bottom] = face.box;
+    const side = Math.max(right - left, bottom - top) * (1 + 2 * FACE_MARGIN);
+    const canvas = Object.assign(document.createElement("canvas"), { width: THUMBNAIL, height: THUMBNAIL });
+    canvas.getContext("2d").drawImage(image, (left + right - side) / 2, (top + bottom - side) / 2, side, side, 0, 0, THUMBNAIL, THUMBNAIL);
+    const button = Object.assign(document.createElement("button"), { type: "button", id: `result-face-${face.number}` });
+    button.append(canvas, `face ${face.number}`);
+    button.addEventListener("click", () => openViewer(face));
+    list.append(button);
+  }
+}
+
+// --- the paper's comparison sheets (under "Advanced") ----------------------------------------------------------------
 $("#compare").addEventListener("click", async () => {
   say("");
   busy(true);
@@ -362,7 +444,8 @@ $("#compare").addEventListener("click", async () => {
     const url = URL.createObjectURL(await (await call("/api/compare", { method: "POST", body: form })).blob());
     $("#sheet-caption").textContent = $("#figure").value === "19"
       ? "Figs. 19-21 of the paper on these photos: the elastic model on the result of another global warp, and the DB metric over λk."
-      : "Figs. 11-13 of the paper on these photos, and the DB metric over λk.";
+      : "Figs. 11-13 of the paper on these photos by the paper's stages, and the DB metric's choice of λk explained;"
+        + ($("#retarget") && $("#retarget").checked ? " last row: this project's default (the target's own smile)." : "");
     $("#sheet").src = url;
     $("#download-sheet").href = url;
     $("#sheet-box").hidden = false;
@@ -384,6 +467,7 @@ $("#video-start").addEventListener("click", async () => {
     const form = new FormData();
     for (const field of ["portrait", "driving_video"]) {
       if (!fileOf(field)) throw new Error(`${field}: choose a file`);
+      if (zoneOf(field).problem) throw new Error(`${field}: ${zoneOf(field).problem}`);
       form.append(field, fileOf(field));
     }
     await addOptions(form, ["Options", "Driving", "Framing"]);

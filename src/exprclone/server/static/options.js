@@ -44,45 +44,50 @@ function slider(option, id, options) {
   });
 }
 
-// one option's control in `box`, as its kind asks: a menu, a checkbox or a slider (with its value shown beside it)
-function drawControl(box, option, prefix, options) {
+// one option's control in `box`, as its kind asks: a menu, a checkbox or a slider (with its value shown beside it); with
+// `explained`, the menu or checkbox in a paragraph of its own with the option's plain sentence under it
+function drawControl(box, option, prefix, options, explained) {
   const id = controlId(prefix, option);
+  const place = explained ? Object.assign(document.createElement("p"), { className: "option" }) : box;
+  let control = null;
   if (option.page.choices.length) {
-    const control = menu(option, id);
+    control = menu(option, id);
     const wrap = label(option, id);
     wrap.append(" ", control);
-    box.append(wrap);
-    return control;
-  }
-  if (option.kind === "boolean") {
-    const control = checkbox(option, id);
+    place.append(wrap);
+  } else if (option.kind === "boolean") {
+    control = checkbox(option, id);
     const wrap = label(option, id);
     wrap.prepend(control, " ");
-    box.append(wrap);
-    return control;
-  }
-  if (option.minimum !== null && option.maximum !== null) {
-    const control = slider(option, id, options);
+    place.append(wrap);
+  } else if (option.minimum !== null && option.maximum !== null) {
+    control = slider(option, id, options);
     box.append(label(option, id), control, Object.assign(document.createElement("output"), { htmlFor: id, textContent: control.value }));
     return control;
   }
-  return null; // (a text option with no values to offer: the page draws nothing for it)
+  if (control && explained) {
+    place.append(Object.assign(document.createElement("small"), { textContent: option.page.sentence }));
+    box.append(place);
+  }
+  return control; // (null for a text option with no values to offer: the page draws nothing for it)
 }
 
-// Every fieldset[data-sections] of the page gets a control for each option offered on `surface` ("form" or "json")
-// whose page section is one of its sections (a fieldset's data-prefix starts their ids). Resolves to the controls drawn,
-// each knowing its option (control.option).
+// Every element [data-sections] of the page gets a control for each option offered on `surface` ("form" or "json")
+// whose page section is one of its sections, section by section in the order it lists them (its data-prefix starts
+// their ids; with the class "explained", each with its plain sentence). Resolves to the controls drawn, each knowing its
+// option (control.option).
 async function drawOptions(surface) {
   const options = await describedOptions;
   const drawn = [];
-  for (const box of document.querySelectorAll("fieldset[data-sections]")) {
-    const sections = box.dataset.sections.split(" ");
-    const end = box.querySelector("[data-options-end]"); // what the page keeps after the controls
+  for (const box of document.querySelectorAll("[data-sections]")) {
+    const end = box.querySelector(":scope > [data-options-end]"); // what the page keeps after the controls
     const place = document.createDocumentFragment();
-    for (const option of Object.values(options)) {
-      if (!option.page || !option.surfaces.includes(surface) || !sections.includes(option.page.section)) continue;
-      const control = drawControl(place, option, box.dataset.prefix || "", options);
-      if (control) drawn.push(Object.assign(control, { option }));
+    for (const section of box.dataset.sections.split(" ")) {
+      for (const option of Object.values(options)) {
+        if (!option.page || !option.surfaces.includes(surface) || option.page.section !== section) continue;
+        const control = drawControl(place, option, box.dataset.prefix || "", options, box.classList.contains("explained"));
+        if (control) drawn.push(Object.assign(control, { option }));
+      }
     }
     box.insertBefore(place, end);
   }
