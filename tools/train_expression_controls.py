@@ -65,6 +65,8 @@ TARGET = 0.35
 AMOUNTS = {"brows_up": (0.06, 0.08, 0.10, 0.12, 0.14, 0.16), "brows_down": (0.04, 0.06, 0.08, 0.10, 0.12)}
 AMOUNTS["frown"] = (0.1, 0.125, 0.15, 0.175, 0.2, 0.225, 0.25)
 R_BROW = (17, 18, 19, 20, 21)
+#: the upper lid's points of the person's right eye.
+R_UPPER_LID = (37, 38)
 #: the lips' points on the person's right, the corner pulled down and out, the others less as they lie nearer the middle.
 STRETCH = {
     48: (-0.6, 0.8),
@@ -87,6 +89,12 @@ ANATOMY: dict[str, dict[str, dict[int, tuple[float, float]]]] = {
     "brows_down": {  # the corrugator draws the inner brows down and toward the midline; the procerus lowers them
         "down and in": dict(zip(R_BROW, ((0.0, 0.2), (0.0, 0.3), (0.15, 0.5), (0.35, 0.8), (0.5, 1.0)))),
         "down and in, evenly": dict(zip(R_BROW, ((0.0, 1.0), (0.1, 1.0), (0.2, 1.0), (0.35, 1.0), (0.5, 1.0)))),
+        # the same, the upper lid held up (the levator palpebrae): the warp alone drags the lid's skin down with the brow,
+        # which the blendshape model reads as a squint
+        "down and in, evenly, the lid held up": {
+            **dict(zip(R_BROW, ((0.0, 1.0), (0.1, 1.0), (0.2, 1.0), (0.35, 1.0), (0.5, 1.0)))),
+            **dict.fromkeys(R_UPPER_LID, (0.0, -0.4)),
+        },
         "even": dict.fromkeys(R_BROW, (0.0, 1.0)),
     },
     "frown": {  # the depressor anguli oris pulls the mouth corners down, the platysma and risorius out; the lips follow

@@ -14,7 +14,9 @@ from them (``made == "learnt"``); where they do not, it is built from the face's
 - ``frown``, ``brows_up``, ``brows_down``, ``wink_left``, ``wink_right``, built: the landmarks a muscle moves (the
   depressor anguli oris pulls the mouth corners down, the frontalis lifts the brows, the corrugator draws them down and
   in, one eye's orbicularis closes its lids as a blink does), along a direction and by an amount calibrated with the
-  blendshape judge (:mod:`exprclone.landmarks.blendshapes`) so that the control's named score rises.
+  blendshape judge (:mod:`exprclone.landmarks.blendshapes`) so that the control's named score rises, and the other
+  regions' scores move least for it: the brows drawn down hold the upper lids up (the levator palpebrae), since the
+  warp alone drags the lids' skin down with the brows, which the judge reads as a squint.
 
 ``tools/train_expression_controls.py`` learns and calibrates them (``exprclone/data/expression_controls.npz``). The
 eyes' motions are scaled by the face's own eye opening against the clips' (a narrow eye's lids travel less), and an
@@ -78,7 +80,8 @@ CONTROLS = (
     Control("brows_up", "the brows rise", "built", "the frontalis: the brows lifted", "brows",
             ("browInnerUp", "browOuterUpLeft", "browOuterUpRight")),
     Control("brows_down", "the brows are drawn down and together", "built",
-            "the corrugator and the procerus: the brows down, their inner ends toward the nose", "brows",
+            "the corrugator and the procerus: the brows down, their inner ends toward the nose; the upper lids held up",
+            "brows",
             ("browDownLeft", "browDownRight")),
     Control("eyes_closed", "both eyes close", "learnt", GRID, "eyes", ("eyeBlinkLeft", "eyeBlinkRight")),
     Control("wink_left", "the left eye (the person's own left) closes", "built",
