@@ -162,7 +162,7 @@ def test_every_worker_loads_the_models_once_as_it_joins(cluster, servers):
     assert set(client.run(loaded).values()) == {(True, 1)}
 
 
-def test_behind_the_shipped_proxy_any_server_answers_a_job_and_one_a_clients_edits(servers, done_job, tmp_path):
+def test_behind_the_shipped_proxy_any_server_answers_a_job_and_one_a_clients_edits_and_editors(servers, done_job, tmp_path):
     job, state = done_job
     with nginx(tmp_path, [int(url.rsplit(":", 1)[1]) for url in servers]) as proxy:
         for _ in range(2):  # the proxy sends them to each server in turn
@@ -173,6 +173,12 @@ def test_behind_the_shipped_proxy_any_server_answers_a_job_and_one_a_clients_edi
         assert made.status_code == 201, made.text
         for strength in ("0.25", "0.5", "0.75", "1.25"):  # each to the server that prepared it
             r = httpx.post(f"{proxy}{made.json()['render']}", data={"strength": strength}, timeout=60)
+            assert r.status_code == 200 and r.headers["content-type"] == "image/jpeg", r.text
+        photo = PHOTOS["target_neutral"]
+        made = httpx.post(f"{proxy}/api/editor", files={"photo": (photo.name, photo.read_bytes())}, timeout=120)
+        assert made.status_code == 201, made.text
+        for smile in ("0.25", "0.5", "0.75", "1"):  # the expression editor's photo too
+            r = httpx.post(f"{proxy}{made.json()['render']}", data={"smile": smile}, timeout=60)
             assert r.status_code == 200 and r.headers["content-type"] == "image/jpeg", r.text
 
 
