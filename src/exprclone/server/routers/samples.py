@@ -49,6 +49,8 @@ async def sample(name: Annotated[str, InPath(json_schema_extra={"enum": list(SAM
 @router.get("/api/expressions")
 async def expression_names() -> Expressions:
     """The built-in expressions, for the ``expression`` field of ``/api/clone`` and ``/api/compare``:
-    ``{"expressions": [{"name", "description"}, ...]}``."""
-    listed = [ExpressionListed(name=name, description=expressions.load(name).description) for name in expressions.names()]
+    ``{"expressions": [{"name", "description"}, ...]}``, the prototype smile first (the one a page offers first), then
+    the others by name."""
+    ordered = sorted(expressions.names(), key=lambda name: name != expressions.DEFAULT)
+    listed = [ExpressionListed(name=name, description=expressions.load(name).description) for name in ordered]
     return Expressions(expressions=listed)
