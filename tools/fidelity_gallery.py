@@ -116,11 +116,10 @@ def row(data: Path, pair: tuple[str, str], before, after, note: str) -> np.ndarr
 
 def identity(image: np.ndarray, target: np.ndarray) -> float:
     """dlib's face-descriptor distance of ``image`` to the ``target`` photo, both detected afresh (as ``exprclone evaluate`` scores it)."""
-    from exprclone.evaluation.scores import FaceDescriptor, identity_distance
     from exprclone.landmarks.backends import default_detector
+    from exprclone.pipeline.role_check import descriptor, identity_distance
 
-    describe = FaceDescriptor()
-    return identity_distance(*(describe(im, default_detector().detect(im)) for im in (image, target)))
+    return identity_distance(*(descriptor(im, default_detector().detect(im)) for im in (image, target)))
 
 
 def worst_pairs(scores: Path, n: int) -> list[tuple[str, str]]:

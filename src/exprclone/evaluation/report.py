@@ -114,34 +114,42 @@ TOLD_BY = ("overall", "mouth", "eyes_brows", "identity", "teeth")
 
 
 def alike(rows: list[Row]) -> list[str]:
-    """A sentence for each method whose results score exactly as an earlier method's on every pair they share, with
-    the reason when lambda_k gives it (the elastic model at lambda_k = 0 is its GI, Eq. 6).
+    """A sentence for each method whose results score exactly as an earlier method's (in the same variant) on every pair
+    they share, with the reason where the stages give it: the elastic model at lambda_k = 0 is its GI (Eq. 6), and with
+    ``retarget`` LI is GI (the rows without the ``[no retarget]`` mark).
 
-    >>> rows = [{"source": "a", "target": "b", "method": m, "lambda_k": lam, "failed": "", **dict.fromkeys(TOLD_BY, 0.1)}
-    ...         for m, lam in (("global", ""), ("elastic", 0.0))]
+    >>> rows = [{"source": "a", "target": "b", "method": m, "lambda_k": lam, "failed": "", "variant": " [no retarget]",
+    ...          **dict.fromkeys(TOLD_BY, 0.1)} for m, lam in (("global", ""), ("elastic", 0.0))]
     >>> print(*alike(rows))  # doctest: +NORMALIZE_WHITESPACE
-    elastic scores exactly as global on all 1 pairs: the DB metric chose lambda_k = 0 for every one of them, and at 0 the
-    elastic model (Eq. 6) keeps the global warp's landmarks.
+    elastic [no retarget] scores exactly as global [no retarget] on all 1 pairs: the DB metric chose lambda_k = 0 for
+    every one of them, and at 0 the elastic model (Eq. 6) keeps the global warp's landmarks.
     """
     scores: dict[str, dict[tuple[str, str], tuple[object, ...]]] = {}
     for r in rows:
         if not r["failed"] and r["method"] not in REFERENCES:
-            scores.setdefault(r["method"], {})[r["source"], r["target"]] = tuple(r[k] for k in TOLD_BY)
+            scores.setdefault(r["method"] + r.get("variant", ""), {})[r["source"], r["target"]] = tuple(r[k] for k in TOLD_BY)
     said, methods = [], list(scores)
     for k, method in enumerate(methods):
         for earlier in methods[:k]:
             shared = scores[method].keys() & scores[earlier].keys()
             if shared and all(scores[method][pair] == scores[earlier][pair] for pair in shared):
-                lambdas = {float(r["lambda_k"]) for r in rows if r["method"] == method and r["lambda_k"] != ""}
-                why = (
-                    ": the DB metric chose lambda_k = 0 for every one of them, and at 0 the elastic model (Eq. 6) keeps the global"
-                    " warp's landmarks"
-                    if method.startswith("elastic") and lambdas == {0.0}
-                    else ""
-                )
-                said.append(f"{method} scores exactly as {earlier} on all {len(shared)} pairs{why}.")
+                said.append(f"{method} scores exactly as {earlier} on all {len(shared)} pairs{_why_alike(rows, method)}.")
                 break
     return said
+
+
+def _why_alike(rows: list[Row], method: str) -> str:
+    """Why ``method`` (its name and variant's mark) scores as its global warp, where the stages say why (:func:`alike`)."""
+    if not method.startswith(("local", "elastic")):
+        return ""
+    if "no retarget" not in method:
+        return ": with retarget, local re-shaping aims at the target's own face so moved, so LI is GI and lambda_k is 0 without a search"
+    lambdas = {float(r["lambda_k"]) for r in rows if r["method"] + r.get("variant", "") == method and r["lambda_k"] != ""}
+    if method.startswith("elastic") and lambdas == {0.0}:
+        return (
+            ": the DB metric chose lambda_k = 0 for every one of them, and at 0 the elastic model (Eq. 6) keeps the global warp's landmarks"
+        )
+    return ""
 
 
 def contrast_table(lines: list[Row]) -> str:
