@@ -67,6 +67,8 @@ AMOUNTS["frown"] = (0.1, 0.125, 0.15, 0.175, 0.2, 0.225, 0.25)
 R_BROW = (17, 18, 19, 20, 21)
 #: the upper lid's points of the person's right eye.
 R_UPPER_LID = (37, 38)
+#: the upper lid's points and the corners of the person's right eye.
+R_UPPER_EYE = (36, 37, 38, 39)
 #: the lips' points on the person's right, the corner pulled down and out, the others less as they lie nearer the middle.
 STRETCH = {
     48: (-0.6, 0.8),
@@ -85,6 +87,17 @@ ANATOMY: dict[str, dict[str, dict[int, tuple[float, float]]]] = {
         "even": dict.fromkeys(R_BROW, (0.0, -1.0)),
         "inner": dict(zip(R_BROW, ((0.0, -0.4), (0.0, -0.6), (0.0, -0.8), (0.0, -1.0), (0.0, -1.0)))),
         "outer": dict(zip(R_BROW, ((0.0, -1.0), (0.0, -1.0), (0.0, -0.9), (0.0, -0.7), (0.0, -0.5)))),
+        # a raised brow lifts the upper lid's skin and widens the eye a little: the lid follows the brow by a tenth
+        "even, the lid lifted with it": {**dict.fromkeys(R_BROW, (0.0, -1.0)), **dict.fromkeys(R_UPPER_LID, (0.0, -0.1))},
+        # the eye held where it is (the lid's margin is the levator's, the corners the canthal tendons', not the
+        # frontalis'): the warp stretches the lashes' band up with the brow, and the face mesh (dlib too) then places the
+        # eye higher, its upper lid most, which the blendshape model reads as an eye opened wider (eyeSquint falls); the
+        # upper lid's points, or the lid's and the corners', lowered by a share of the brow's lift keep it where it was read
+        **{
+            f"even, the {held} held ({share:g})": {**dict.fromkeys(R_BROW, (0.0, -1.0)), **dict.fromkeys(points, (0.0, share))}
+            for held, points in (("lid", R_UPPER_LID), ("lid and corners", R_UPPER_EYE))
+            for share in (0.1, 0.2, 0.3)
+        },
     },
     "brows_down": {  # the corrugator draws the inner brows down and toward the midline; the procerus lowers them
         "down and in": dict(zip(R_BROW, ((0.0, 0.2), (0.0, 0.3), (0.15, 0.5), (0.35, 0.8), (0.5, 1.0)))),

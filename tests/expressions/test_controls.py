@@ -36,7 +36,7 @@ def test_every_control_names_scores_of_its_own_region_and_says_how_it_was_made()
 
 def test_each_shipped_motion_moves_its_own_region_alone(points):
     """A mouth control moves the lips (and the jaw that carries them), an eye control the lids, a brow control the brows
-    (and the upper lids it may hold up); none is still. (The smile moves the whole face as people's smiles do, its mouth
+    (and the eyes' upper lids and corners it may hold); none is still. (The smile moves the whole face as people's smiles do, its mouth
     most.)"""
     face = normalised(points("003"), points("003"), DLIB68)
     shipped = default_motions()
@@ -44,7 +44,8 @@ def test_each_shipped_motion_moves_its_own_region_alone(points):
     assert smile.argmax() in DLIB68.regions["mouth"]
     for control in (c for c in CONTROLS if c.name in STORED):
         moved = np.flatnonzero(np.linalg.norm(shipped.motion(control.name, face, DLIB68), axis=1) > 1e-9)
-        held = {"mouth": DLIB68.jaw, "brows": tuple(upper for eye in controls.lid_pairs(DLIB68) for upper, _ in eye)}
+        upper_lids = tuple(upper for eye in controls.lid_pairs(DLIB68) for upper, _ in eye)
+        held = {"mouth": DLIB68.jaw, "brows": upper_lids + tuple(eye[k] for eye in DLIB68.eyes for k in (0, 3))}
         own = DLIB68.regions[control.region] + held.get(control.region, ())
         assert len(moved) and set(moved) <= set(own), control.name
 

@@ -16,7 +16,9 @@ from them (``made == "learnt"``); where they do not, it is built from the face's
   in, one eye's orbicularis closes its lids as a blink does), along a direction and by an amount calibrated with the
   blendshape judge (:mod:`exprclone.landmarks.blendshapes`) so that the control's named score rises, and the other
   regions' scores move least for it: the brows drawn down hold the upper lids up (the levator palpebrae), since the
-  warp alone drags the lids' skin down with the brows, which the judge reads as a squint.
+  warp alone drags the lids' skin down with the brows, which the judge reads as a squint; the brows raised hold the
+  eyes down (their upper lids and corners), since the warp stretches the lashes' band up with the brows and the face
+  mesh then places the eyes higher, which the judge reads as eyes opened wider (``eyeSquint`` falls).
 
 ``tools/train_expression_controls.py`` learns and calibrates them (``exprclone/data/expression_controls.npz``). The
 eyes' motions are scaled by the face's own eye opening against the clips' (a narrow eye's lids travel less), and an
@@ -77,7 +79,8 @@ CONTROLS = (
             "the depressor anguli oris and the platysma: the corners down and out, the lips' sides with them", "mouth",
             ("mouthFrownLeft", "mouthFrownRight")),
     Control("pucker", "the lips gather and push forward, as for a kiss", "learnt", GRID, "mouth", ("mouthPucker",)),
-    Control("brows_up", "the brows rise", "built", "the frontalis: the brows lifted", "brows",
+    Control("brows_up", "the brows rise", "built",
+            "the frontalis: the brows lifted, evenly; the eyes' upper lids and corners held where they are", "brows",
             ("browInnerUp", "browOuterUpLeft", "browOuterUpRight")),
     Control("brows_down", "the brows are drawn down and together", "built",
             "the corrugator and the procerus: the brows down, their inner ends toward the nose; the upper lids held up",
