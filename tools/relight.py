@@ -5,48 +5,37 @@ ear to the other, or given another white balance (:mod:`exprclone.testing.lighti
 
 For each of ``--pairs`` London pairs (each person in turn the source, the next person the target), the clone of the
 source's real photos is made, then again with the source's expression photo changed (``relit+``, ``relit-``, ``warm``,
-``cool``) or both source photos made grey (``grey``), each twice:
+``cool``, and ``noise``: Gaussian noise of one grey level, no change of light, the reference) or both source photos made
+grey (``grey``), each twice:
 
 - ``found``: the changed photo's landmarks found afresh, as a user's clone finds them;
 - ``kept``: the landmarks of the unchanged photo: what the change does through the details (the ERI, its tint, the MD
   model's weighting, the mouth's paste) alone, the geometry the same.
 
-It prints, for each change, the change of the clone's luma inside the face (the hull of the final landmarks: grey
-levels, the mean over the pairs of each pair's mean, and of its 95th percentile), and how far the landmarks found on the
-changed photo moved (pixels, mean over the points; and in eye distances).
+It prints, for each change, the change of the clone inside the face (the hull of the final landmarks: grey levels,
+each pixel's averaged over R, G and B, :func:`exprclone.testing.lighting.change`, so that a colour carried counts; the
+mean over the pairs of each pair's mean, and of its 95th percentile), and how far the landmarks found on the
+changed photo moved (pixels, mean over the points; and in eye distances). Where ``found`` is near ``noise``'s, a change
+reaches the clone through where the landmarker places the points, as any change the eye cannot see does, not through
+the light: ``kept`` is the light's share.
 """
 
 from __future__ import annotations
 
 import argparse
 
-import cv2
 import numpy as np
 
 from exprclone import clone
 from exprclone.data import sets as datasets
-from exprclone.imaging import raster
 from exprclone.io.images import load_image
 from exprclone.landmarks import align
 from exprclone.landmarks.backends import default_detector
 from exprclone.landmarks.layout import DLIB68
-from exprclone.testing.lighting import changes
+from exprclone.testing.lighting import change, changes, face, noisy
 
 #: the changes measured: those of the expression photo alone, and the grey source (both photos).
-EXPRESSION_ONLY = ("relit+", "relit-", "warm", "cool")
-
-
-def face_mask(shape: tuple[int, ...], landmarks: np.ndarray) -> np.ndarray:
-    """Inside the face: the hull of the jaw and the brows (dlib's 0-26), bool ``(H, W)``."""
-    mask = np.zeros(shape[:2], np.uint8)
-    cv2.fillConvexPoly(mask, cv2.convexHull(landmarks[:27].astype(np.float32)).round().astype(np.int32), 1)
-    return mask.astype(bool)
-
-
-def changed_by(a: np.ndarray, b: np.ndarray, mask: np.ndarray) -> tuple[float, float]:
-    """The mean and the 95th percentile of the luma's absolute change from ``a`` to ``b`` inside ``mask`` (grey levels)."""
-    change = np.abs(raster.luma(a).astype(np.float32) - raster.luma(b).astype(np.float32))[mask]
-    return float(change.mean()), float(np.percentile(change, 95))
+EXPRESSION_ONLY = ("relit+", "relit-", "warm", "cool", "noise")
 
 
 def measure(photos: tuple[np.ndarray, np.ndarray, np.ndarray], method: str) -> dict[str, tuple[float, ...]]:
@@ -55,10 +44,10 @@ def measure(photos: tuple[np.ndarray, np.ndarray, np.ndarray], method: str) -> d
     detect = default_detector().detect
     points = tuple(detect(p) for p in photos)
     base = clone(*photos, landmarks=points, method=method)
-    mask = face_mask(photos[2].shape, base.landmarks["final"])
+    mask = face(photos[2].shape, base.landmarks["final"])
     iod = align.interocular(points[1], DLIB68)
     rows = {}
-    for name, image in changes(photos[1], points[1]).items():
+    for name, image in {**changes(photos[1], points[1]), "noise": noisy(photos[1])}.items():
         if name == "grey":
             source = (image, changes(photos[0], points[0])["grey"])
         elif name in EXPRESSION_ONLY:
@@ -67,8 +56,8 @@ def measure(photos: tuple[np.ndarray, np.ndarray, np.ndarray], method: str) -> d
             continue
         found = (detect(source[1]), detect(source[0]), points[2])
         moved = float(np.linalg.norm(found[1] - points[1], axis=1).mean())
-        by_found = changed_by(base.image, clone(source[1], source[0], photos[2], landmarks=found, method=method).image, mask)
-        by_kept = changed_by(base.image, clone(source[1], source[0], photos[2], landmarks=points, method=method).image, mask)
+        by_found = change(base.image, clone(source[1], source[0], photos[2], landmarks=found, method=method).image, mask)
+        by_kept = change(base.image, clone(source[1], source[0], photos[2], landmarks=points, method=method).image, mask)
         rows[name] = (*by_found, *by_kept, moved, moved / iod)
     return rows
 
@@ -95,7 +84,7 @@ def main() -> None:
             table.setdefault(name, []).append(row)
             found, kept = f"{row[0]:5.2f} (p95 {row[1]:5.2f})", f"{row[2]:5.2f} (p95 {row[3]:5.2f})"
             print(f"{source} onto {target} {name:7s} found {found}  kept {kept}  landmarks moved {row[4]:4.2f} px", flush=True)
-    print(f"\n{args.method}, {args.pairs} London pairs: the clone's luma change inside the face (grey levels)")
+    print(f"\n{args.method}, {args.pairs} London pairs: the clone's change inside the face (grey levels, R, G and B)")
     print("(the mean over the pairs of each pair's mean and of its 95th percentile)")
     print("change   landmarks found (mean, p95)   landmarks kept (mean, p95)   landmarks moved (px, eye distances)")
     for name, rows in table.items():

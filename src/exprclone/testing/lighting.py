@@ -7,6 +7,7 @@ A source pair should be one session in one light; these are what a pair from els
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 
 from exprclone.imaging import raster
@@ -15,6 +16,8 @@ from exprclone.imaging import raster
 SIDE_LIGHT = 0.15
 #: another white balance: a warm light (R up, B down) and a cool one, as R, G, B gains.
 WARM, COOL = (1.08, 1.0, 0.9), (0.9, 1.0, 1.1)
+#: the noise of :func:`noisy`, in grey levels: a change no eye sees.
+NOISE = 1.0
 
 
 def grey(image: np.ndarray) -> np.ndarray:
@@ -45,3 +48,24 @@ def changes(image: np.ndarray, landmarks: np.ndarray) -> dict[str, np.ndarray]:
         "warm": balanced(image, WARM),
         "cool": balanced(image, COOL),
     }
+
+
+def noisy(image: np.ndarray, sigma: float = NOISE, seed: int = 0) -> np.ndarray:
+    """The photo with Gaussian noise of ``sigma`` grey levels (seeded): no change of light, a reference for one."""
+    noise = np.random.default_rng(seed).normal(0.0, sigma, image.shape)
+    return np.clip(image + noise + 0.5, 0, 255).astype(np.uint8)
+
+
+def face(shape: tuple[int, ...], landmarks: np.ndarray) -> np.ndarray:
+    """Inside the face: the hull of the jaw and the brows (dlib's 0-26), bool ``(H, W)``."""
+    mask = np.zeros(shape[:2], np.uint8)
+    cv2.fillConvexPoly(mask, cv2.convexHull(landmarks[:27].astype(np.float32)).round().astype(np.int32), 1)
+    return mask.astype(bool)
+
+
+def change(a: np.ndarray, b: np.ndarray, mask: np.ndarray) -> tuple[float, float]:
+    """The mean and the 95th percentile inside ``mask`` of how much ``b`` differs from ``a``, uint8 RGB: each pixel's
+    absolute difference averaged over R, G and B (grey levels). A change of the luma counts as it is; a change of colour
+    that keeps the luma (another white balance carried as a tint) counts too."""
+    diff = np.abs(a.astype(np.float32) - b.astype(np.float32)).mean(axis=2)[mask]
+    return float(diff.mean()), float(np.percentile(diff, 95))
