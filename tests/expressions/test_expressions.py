@@ -93,6 +93,14 @@ def test_the_python_api_is_clone_with_the_pair(photo):
     assert np.array_equal(result.image, same.image) and result.options.strength == 0.5
 
 
+@pytest.mark.parametrize("name", ["surprise", "sad", "angry"])
+def test_a_built_in_pair_is_not_judged_as_if_given(name, recwarn):
+    # the editor's surprise, its brows raised, looked like another person than its neutral face to the role check,
+    # and every clone with it was warned that the source's two photos should show one person
+    expressions.clone(samples.photo("003"), name)
+    assert not [str(w.message) for w in recwarn if issubclass(w.category, exprclone.ExprCloneWarning)]
+
+
 def test_strength_zero_leaves_the_target_and_regions_keep_the_rest(photo):
     target, points = photo("001")
     unchanged = expressions.clone(target, "smile", strength=0, target_landmarks=points).image

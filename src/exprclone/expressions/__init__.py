@@ -108,4 +108,5 @@ def clone(
     """
     chosen = expression if isinstance(expression, Expression) else load(expression)
     landmarks = (chosen.neutral.points, chosen.expression.points, target_landmarks)
+    options.setdefault("check_roles", False)  # (the role check judges the source's pair: this one is shipped, not given)
     return clone_pair(chosen.neutral.image, chosen.expression.image, target_neutral, landmarks=landmarks, **options)

@@ -112,7 +112,8 @@ def gather(
 
     With ``seen``, the landmarks of photos sent as bytes are placed here (:func:`placed`), remembered there for the
     next time they are sent. ``check_roles`` as for :meth:`~exprclone.pipeline.request.Request.of`: by default the
-    roles are checked unless every photo's landmarks are given (a built-in expression's are).
+    roles are checked unless every photo's landmarks are given, or the source is a built-in expression (the check
+    judges the source's two photos, and a built-in pair is shipped as it was made).
 
     Raises
     ------
@@ -133,7 +134,8 @@ def gather(
     assert sn is not None and se is not None and tn is not None
     if global_landmarks is not None:
         asked = dataclasses.replace(asked, global_landmarks=global_landmarks.landmarks(tn.image.shape))
-    return Request(sn, se, tn, asked, not all(given) if check_roles is None else check_roles)
+    vouched = expression is not None or all(given)  # (the role check judges the source's pair: a built-in one is shipped)
+    return Request(sn, se, tn, asked, not vouched if check_roles is None else check_roles)
 
 
 def photo(
