@@ -229,6 +229,19 @@ def test_compare_draws_figure_19(page):
     assert "Figs. 19-21" in page.text_content("#sheet-caption")
 
 
+def test_compare_draws_figure_17_whatever_global_warp_the_fold_holds(page):
+    set_photos(page, samples.path("003"))
+    advanced(page)
+    page.select_option("#figure", "17")
+    page.select_option("#global-warp", "rbf")  # Fig. 17 is drawn on Song et al.'s warp whatever the fold holds
+    page.evaluate("document.querySelector('#sheet').removeAttribute('src')")
+    page.click("#compare")
+    page.wait_for_function("document.querySelector('#sheet').naturalWidth > 0", timeout=CLONE_TIMEOUT)
+    assert page.evaluate("document.querySelector('#sheet').naturalWidth") == 7 * 320  # the server's Fig. 17 sheet
+    assert "Fig. 17" in page.text_content("#sheet-caption") and page.is_hidden("#error")
+    page.select_option("#global-warp", "")
+
+
 def test_a_built_in_expression_needs_one_photo(page):
     page.reload()
     page.check("#source-builtin")

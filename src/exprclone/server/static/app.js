@@ -435,16 +435,23 @@ async function showFaces(faces) {
 }
 
 // --- the paper's comparison sheets (under "Advanced") ----------------------------------------------------------------
+// what each sheet but Fig. 11's shows (Fig. 11's caption says whether the default's row is drawn)
+const CAPTIONS = {
+  16: "Fig. 16 of the paper on these photos: global warping with the ERI, Song et al.'s method, the elastic model with the ERI and E+MD, and E+MD against Song et al.'s.",
+  17: "Fig. 17 of the paper on these photos: Song et al.'s method, the elastic model with the ERI and E+MD, all on Song et al.'s global warp (VTC).",
+  19: "Figs. 19-21 of the paper on these photos: the elastic model on the result of another global warp, and the DB metric over λk.",
+};
 $("#compare").addEventListener("click", async () => {
   say("");
   busy(true);
   try {
+    const figure = $("#figure").value;
     const form = await cloneForm(false);
-    form.append("figure", $("#figure").value);
+    if (figure === "17") form.delete("global_warp"); // (Fig. 17 is drawn on Song et al.'s warp alone)
+    form.append("figure", figure);
     const url = URL.createObjectURL(await (await call("/api/compare", { method: "POST", body: form })).blob());
-    $("#sheet-caption").textContent = $("#figure").value === "19"
-      ? "Figs. 19-21 of the paper on these photos: the elastic model on the result of another global warp, and the DB metric over λk."
-      : "Figs. 11-13 of the paper on these photos by the paper's stages, and the DB metric's choice of λk explained;"
+    $("#sheet-caption").textContent = CAPTIONS[figure]
+      || "Figs. 11-13 of the paper on these photos by the paper's stages, and the DB metric's choice of λk explained;"
         + ($("#retarget") && $("#retarget").checked ? " last row: this project's default (the target's own smile)." : "");
     $("#sheet").src = url;
     $("#download-sheet").href = url;
