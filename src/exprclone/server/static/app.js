@@ -438,7 +438,7 @@ async function showFaces(faces) {
 // what each sheet but Fig. 11's shows (Fig. 11's caption says whether the default's row is drawn)
 const CAPTIONS = {
   16: "Fig. 16 of the paper on these photos: global warping with the ERI, Song et al.'s method, the elastic model with the ERI and E+MD, and E+MD against Song et al.'s.",
-  17: "Fig. 17 of the paper on these photos: Song et al.'s method, the elastic model with the ERI and E+MD, all on Song et al.'s global warp (VTC).",
+  17: "Fig. 17 of the paper on these photos: Song et al.'s method, the elastic model with the ERI and E+MD, all on Song et al.'s global warp.",
   19: "Figs. 19-21 of the paper on these photos: the elastic model on the result of another global warp, and the DB metric over λk.",
 };
 $("#compare").addEventListener("click", async () => {
