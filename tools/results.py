@@ -40,6 +40,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from exprclone.evaluation.runner import NO_RETARGET, marks
+
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = ROOT / "docs" / "results"
 KEPT = PAGES / "data"
@@ -331,20 +333,20 @@ def render_elastic() -> None:
     (PAGES / "elastic.rst").write_text("\n".join(text))
 
 
-#: what a variant's mark on a row means, by mark.
+#: what each word of a variant's mark on a row means (:func:`exprclone.evaluation.runner.variant_label`).
 VARIANTS = {
-    "[rbf]": "run on the RBF transfer's global warp (the paper's Figs. 19-20) instead of the similarity transfer;"
+    "rbf": "run on the RBF transfer's global warp (the paper's Figs. 19-20) instead of the similarity transfer;"
     " :doc:`../explanation/global-warps` discusses them.",
-    "[no retarget]": "run the paper's stages (``--no-retarget``): the source's motion as it is, local re-shaping and the"
+    NO_RETARGET: "run the paper's stages (``--no-retarget``): the source's motion as it is, local re-shaping and the"
     " DB metric's lambda_k as the paper has them; the rows without it, this project's default, make the source's"
     " expression as the target's own face makes it (:doc:`../explanation/fidelity`).",
 }
 
 
 def _variants_said(rows: list[dict]) -> list[str]:
-    """A sentence for each variant's mark found on the rows (:data:`VARIANTS`)."""
-    marks = {row["variant"].strip() for row in rows if row.get("variant")}
-    return [line for mark, said in VARIANTS.items() if mark in marks for line in (f"Rows marked ``{mark}`` {said}", "")]
+    """A sentence for each word of the variants' marks found on the rows (:data:`VARIANTS`)."""
+    found = set().union(*(marks(row.get("variant", "")) for row in rows))
+    return [line for word, said in VARIANTS.items() if word in found for line in (f"Rows whose mark holds ``{word}`` {said}", "")]
 
 
 def _headline(summaries: dict[str, list[dict]], meta: dict) -> str:

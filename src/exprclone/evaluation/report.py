@@ -22,7 +22,7 @@ from .digest import digest
 from .figures import face_box
 from .judge import MIN_PEOPLE
 from .london import Dataset
-from .runner import FIELDS, PAPER, REFERENCES, Row, Variant, clone_pair, photo
+from .runner import FIELDS, NO_RETARGET, PAPER, REFERENCES, Row, Variant, clone_pair, marks, photo
 from .scores import GREY_WARMTH, TEETH_SHOWN, shadows
 from .statistics import STRONG_SMILE, contrasts, summarise
 
@@ -138,14 +138,16 @@ def alike(rows: list[Row]) -> list[str]:
     return said
 
 
-def _why_alike(rows: list[Row], method: str) -> str:
-    """Why ``method`` (its name and variant's mark) scores as its global warp, where the stages say why (:func:`alike`)."""
-    if not method.startswith(("local", "elastic")):
+def _why_alike(rows: list[Row], named: str) -> str:
+    """Why the method ``named`` (its name and variant's mark) scores as its global warp, where the stages say why
+    (:func:`alike`)."""
+    method, _, label = named.partition(" ")
+    if method not in ("local", "local+eri", "elastic", "elastic+eri"):
         return ""
-    if "no retarget" not in method:
+    if NO_RETARGET not in marks(label):
         return ": with retarget, local re-shaping aims at the target's own face so moved, so LI is GI and lambda_k is 0 without a search"
-    lambdas = {float(r["lambda_k"]) for r in rows if r["method"] + r.get("variant", "") == method and r["lambda_k"] != ""}
-    if method.startswith("elastic") and lambdas == {0.0}:
+    mine = [r for r in rows if r["method"] == method and r.get("variant", "").strip() == label]
+    if method.startswith("elastic") and {float(r["lambda_k"]) for r in mine if r["lambda_k"] != ""} == {0.0}:
         return (
             ": the DB metric chose lambda_k = 0 for every one of them, and at 0 the elastic model (Eq. 6) keeps the global warp's landmarks"
         )

@@ -143,6 +143,19 @@ def _relative_width(landmarks: np.ndarray) -> float:
     return mouth_width(landmarks, DLIB68) / align.interocular(landmarks, DLIB68)
 
 
+#: the word of a variant's mark for the paper's stages (``retarget`` off).
+NO_RETARGET = "no retarget"
+
+
+def marks(label: str) -> set[str]:
+    """The words of a variant's mark: ``" [rbf, no retarget]"`` -> ``{"rbf", "no retarget"}`` (none for the default).
+
+    >>> sorted(marks(" [rbf, no retarget]")), marks("")
+    (['no retarget', 'rbf'], set())
+    """
+    return {word.strip() for word in label.strip().strip("[]").split(",") if word.strip()}
+
+
 def variant_label(options: Options) -> str:
     """What follows a method's name in a variant's rows: nothing in the default setting, else ``" [rbf, tps, S=1.5]"``.
 
@@ -157,7 +170,7 @@ def variant_label(options: Options) -> str:
     if options.strength != 1.0:
         said.append(f"S={options.strength:g}")
     if not options.retarget:
-        said.append("no retarget")
+        said.append(NO_RETARGET)
     return f" [{', '.join(said)}]" if said else ""
 
 
