@@ -79,7 +79,9 @@ def grain_pair(photo):
         def measure():
             return tone.Reference.measure(degrade(tn), target_lm, DLIB68)
 
-        return paste.fill_interior(degrade(off.image), off.landmarks["final"], se, source_lm, measure, DLIB68)
+        image, final = degrade(off.image), off.landmarks["final"]
+        made = paste.patch(image.shape, final, se, source_lm, measure, DLIB68)
+        return paste.blend(image, made, lambda: paste.source_grain(se, source_lm, measure(), final, DLIB68))
 
     sharp, weight = fill(lambda im: im)
     whole = cv2.erode((weight > 0.99).astype(np.uint8), np.ones((7, 7), np.uint8)).astype(bool)
@@ -187,8 +189,8 @@ def test_teeth_fade_out_as_the_source_shows_less(open_pair):
         covered[(inner > 0) & (np.arange(se.shape[1]) < edge)[None, :]] = lip_colour
         teeth, cavity = measure.interior(covered, lips.uncross(se_lm, DLIB68), DLIB68)
         shown.append((teeth.sum() + cavity.sum()) / measure.mouth_width(se_lm, DLIB68) ** 2)
-        _, mask = paste.fill_interior(on.image, on.landmarks["final"], covered, se_lm, lambda: reference, DLIB68)
-        amounts.append(0.0 if mask is None else float(mask.sum()))
+        made = paste.patch(on.image.shape, on.landmarks["final"], covered, se_lm, lambda: reference, DLIB68)
+        amounts.append(0.0 if made is None else float(made.mask.sum()))
     amounts, shown = np.array(amounts), np.array(shown)
     assert shown[0] > measure.INTERIOR[1] and amounts[-1] == 0  # from all teeth to none
     assert np.abs(np.diff(amounts)).max() < 0.3 * amounts[0]  # each step covers a little, each step fades a little

@@ -157,17 +157,15 @@ def test_a_video_reads_its_cameras_grain_once_and_every_paste_gets_it(grid_clip,
         for f, p in zip(read_frames(grid_clip), recording.points)
         if measure.opening(p, layout) >= measure.OPENING[1]
     ]
-    scale = align.interocular(recording.driver.cloner.faces.t_neu, layout) / align.interocular(opened[0][1], layout)
+    final = recording.driver.cloner.faces.t_neu
+    scale = align.interocular(final, layout) / align.interocular(opened[0][1], layout)
     each = [paste.grain(f, p, reference, scale) for f, p in opened]
     blur = reference.source_grain[0]
     assert min(b for b, _ in each) <= blur <= max(b for b, _ in each) and np.ptp([n for _, n in each], axis=0).max() > 0
     patch, gain = np.full((16, 16, 3), 120.0, np.float32), np.ones(3)
     pasted = {
-        read: [
-            paste.match_grain(patch, f, p, reference if read == "once" else dataclasses.replace(reference, source_grain=None), scale, gain)
-            for f, p in opened[:6]
-        ]
-        for read in ("once", "each")
+        read: [paste.match_grain(patch, paste.source_grain(f, p, measured, final, layout), reference.noise, gain) for f, p in opened[:6]]
+        for read, measured in (("once", reference), ("each", dataclasses.replace(reference, source_grain=None)))
     }
     assert all(np.array_equal(pasted["once"][0], other) for other in pasted["once"][1:])
     assert not all(np.array_equal(pasted["each"][0], other) for other in pasted["each"][1:])

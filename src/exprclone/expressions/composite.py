@@ -171,7 +171,7 @@ def build(pairs: list[tuple[Face, Face]], layout: Layout = DLIB68, size: tuple[i
 
 
 def interior_mask(points: np.ndarray, size: tuple[int, int], layout: Layout = DLIB68) -> np.ndarray:
-    """The inside of the inner lips, feathered as :func:`exprclone.mouth.paste.fill_interior` feathers its paste: ``(H, W)`` float32."""
+    """The inside of the inner lips, feathered as :func:`exprclone.mouth.paste.patch` feathers its paste: ``(H, W)`` float32."""
     polygon = raster.fill_polygon(np.zeros(size, np.float32), points[list(layout.mouth_inner)], 1.0)
     sigma = max(FEATHER * mouth_width(points, layout), 0.5)
     return cv2.GaussianBlur(raster.erode(polygon, max(1, int(round(sigma)))), (0, 0), sigma) * polygon

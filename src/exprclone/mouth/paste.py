@@ -17,11 +17,15 @@ dark cavity).
    teeth from a crisp photo do not stand out in a soft or grainy one;
 3. blended inside the inner-lip polygon with a feathered edge that ends at the lip line,
    so the target's own lips stay the target's.
+
+:func:`patch` makes it ready (the warp, its colour, the blend's weight) from the final landmarks alone;
+:func:`blend` gives it the grain and lays it on the image (a clone makes the patch while the photo is warped).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import cv2
 import numpy as np
@@ -43,32 +47,21 @@ NOISE_SEED = 0
 PATCH_MARGIN = 0.1
 
 
-def match_grain(
-    patch: np.ndarray,
-    source: np.ndarray,
-    source_landmarks: np.ndarray,
-    reference: Reference,
-    scale: float,
-    gain: np.ndarray,
-) -> np.ndarray:
+def match_grain(patch: np.ndarray, source_grain: tuple[float, np.ndarray], noise: np.ndarray, gain: np.ndarray) -> np.ndarray:
     """Blur and noise a patch of the source photo until they are the target photo's.
 
     The patch is blurred by the Gaussian that takes the source's edge blur to the target's,
     then given Gaussian noise, seeded by :data:`NOISE_SEED`, that brings the noise left in it
-    (times the tone ``gain``) up to the target's: the source's grain as :func:`grain` measures
-    it on this photo, or as the reference holds it (:attr:`exprclone.mouth.tone.Reference.source_grain`,
-    read once for a video's frames).
+    (times the tone ``gain``) up to the target's.
 
     Parameters
     ----------
     patch : ndarray of shape (h, w, 3), float32
         Source pixels warped into the target photo, tone-matched by ``gain``.
-    source : ndarray of shape (H, W, 3), uint8
-        The source's expression photo, and ``source_landmarks`` its landmarks.
-    reference : Reference
-        The target photo, measured.
-    scale : float
-        Target pixels per source pixel in the patch.
+    source_grain : tuple of (float, ndarray of shape (3,))
+        The source's blur to add and the noise left then (:func:`source_grain`).
+    noise : ndarray of shape (3,)
+        The target photo's noise (:attr:`exprclone.mouth.tone.Reference.noise`).
     gain : ndarray of shape (3,)
         The tone match applied to the patch.
 
@@ -76,11 +69,21 @@ def match_grain(
     -------
     ndarray of shape (h, w, 3), float32
     """
-    sigma, left = reference.source_grain or grain(source, source_landmarks, reference, scale)
+    sigma, left = source_grain
     if sigma > 0:
         patch = cv2.GaussianBlur(patch, (0, 0), sigma)
-    missing = np.sqrt(np.maximum(reference.noise**2 - (gain * left) ** 2, 0.0))
+    missing = np.sqrt(np.maximum(noise**2 - (gain * left) ** 2, 0.0))
     return patch + np.random.default_rng(NOISE_SEED).normal(0.0, 1.0, patch.shape).astype(np.float32) * missing.astype(np.float32)
+
+
+def source_grain(
+    source: np.ndarray, source_landmarks: np.ndarray, reference: Reference, final: np.ndarray, layout: Layout
+) -> tuple[float, np.ndarray]:
+    """The source's grain a patch pasted at the landmarks ``final`` is matched to (:func:`match_grain`): as :func:`grain`
+    measures it on this photo, at the scale its pixels have there, or as the reference holds it
+    (:attr:`exprclone.mouth.tone.Reference.source_grain`, read once for a video's frames)."""
+    scale = align.interocular(final, layout) / align.interocular(source_landmarks, layout)
+    return reference.source_grain or grain(source, source_landmarks, reference, scale)
 
 
 def grain(source: np.ndarray, source_landmarks: np.ndarray, reference: Reference, scale: float) -> tuple[float, np.ndarray]:
@@ -98,25 +101,50 @@ def grain(source: np.ndarray, source_landmarks: np.ndarray, reference: Reference
     return sigma, noise_sigma(source_face)
 
 
-def fill_interior(
-    image: np.ndarray,
+@dataclass(frozen=True)
+class Patch:
+    """The source's mouth interior made ready to paste (:func:`patch`): where, what, and how much.
+
+    Attributes
+    ----------
+    box : tuple of slice
+        The rows and columns of the target photo it covers.
+    pixels : ndarray of shape (h, w, 3), float32
+        The interior warped into the box, its colour matched to the target photo's (its grain is matched as it is
+        blended: :func:`blend`).
+    mask : ndarray of shape (h, w), float32
+        Its weight: feathered inside the inner lips, scaled by the paste's amount.
+    gain : ndarray of shape (3,)
+        The tone match applied to it.
+    noise : ndarray of shape (3,)
+        The target photo's noise (:attr:`exprclone.mouth.tone.Reference.noise`).
+    """
+
+    box: tuple[slice, slice]
+    pixels: np.ndarray
+    mask: np.ndarray
+    gain: np.ndarray
+    noise: np.ndarray
+
+
+def patch(
+    shape: tuple[int, ...],
     final: np.ndarray,
     source: np.ndarray,
     source_landmarks: np.ndarray,
     measure: Callable[[], Reference],
     layout: Layout,
     amount: float = 1.0,
-    *,
-    in_place: bool = False,
-) -> tuple[np.ndarray, np.ndarray | None]:
-    """Paste the source's mouth interior inside the target's final inner lips.
+) -> Patch | None:
+    """The source's mouth interior made ready to paste inside the target's final inner lips (steps 1 and 2 above, and
+    the blend's feathered weight): it needs the final landmarks, not the image it is pasted into.
 
     Parameters
     ----------
-    image : ndarray of shape (H, W, 3), uint8
-        The result so far (target photo in its final geometry).
+    shape : tuple of int
+        The shape of the image it is pasted into (the target photo's).
     final : ndarray of shape (N, 2)
-        Its landmarks.
+        That image's landmarks.
     source : ndarray of shape (h, w, 3), uint8
         The source's expression photo, and ``source_landmarks`` its landmarks.
     measure : function giving a Reference
@@ -126,20 +154,16 @@ def fill_interior(
     amount : float
         Share of the source's mouth motion transferred, at most 1 (expression strength,
         :attr:`exprclone.geometry.weights.Transfer.paste`): the paste's weight is scaled by it.
-    in_place : bool
-        Paste into ``image`` itself (a caller's own copy), not into a copy of it.
 
     Returns
     -------
-    image : ndarray of shape (H, W, 3), uint8
-        Unchanged (the same array) when either mouth is closed, or the source's shows
-        too little of its interior (:data:`exprclone.mouth.measure.OPENING`, :data:`exprclone.mouth.measure.INTERIOR`), or ``amount`` is 0.
-    mask : ndarray of shape (H, W) or None
-        Weight of the pasted interior, None when nothing was pasted.
+    Patch or None
+        None when either mouth is closed, or the source's shows too little of its interior
+        (:data:`exprclone.mouth.measure.OPENING`, :data:`exprclone.mouth.measure.INTERIOR`), or ``amount`` is 0.
     """
-    weight = fade_in(opening(final, layout), OPENING) * fade_in(opening(source_landmarks, layout), OPENING) * amount
+    weight = opened(final, source_landmarks, layout, amount)
     if weight == 0:
-        return image, None
+        return None
     reference = measure()
     light = source_light(source, source_landmarks, reference, layout)
     gain = tone_gain(source, source_landmarks, reference, layout, light=light)
@@ -147,34 +171,69 @@ def fill_interior(
     shown = sum(int(part.sum()) for part in parts)
     weight *= fade_in(shown / mouth_width(source_landmarks, layout) ** 2, INTERIOR)
     if weight == 0:
-        return image, None
+        return None
     mouth = list(layout.mouth_outer + layout.mouth_inner)
     inner = list(layout.mouth_inner)
     src = np.vstack([source_landmarks[mouth], source_landmarks[inner].mean(0)])
     dst = np.vstack([final[mouth], final[inner].mean(0)])
     width = mouth_width(final, layout)
-    box = align.box(dst, image.shape, PATCH_MARGIN * width, closed=False)
+    box = align.box(dst, shape, PATCH_MARGIN * width, closed=False)
     local = dst - (box[1].start, box[0].start)
     triangles = Delaunay(local).simplices
-    patch = piecewise.warp(source, src, local, triangles, image[box].shape[:2]).astype(np.float32)
-    polygon = raster.fill_polygon(np.zeros(patch.shape[:2], np.float32), local[len(layout.mouth_outer) : len(mouth)], 1.0)
+    size = (box[0].stop - box[0].start, box[1].stop - box[1].start)
+    warped = piecewise.warp(source, src, local, triangles, size).astype(np.float32)
+    polygon = raster.fill_polygon(np.zeros(warped.shape[:2], np.float32), local[len(layout.mouth_outer) : len(mouth)], 1.0)
 
-    gain = below_white(gain, patch[polygon > 0])
+    gain = below_white(gain, warped[polygon > 0])
     pixels = source[mouth_box]
     seen = reference.source_interior or teeth.Interior.read((pixels[parts[0]], pixels[parts[1]]), mouth_width(source_landmarks, layout))
-    patch = teeth.recolour(patch, np.log(gain), seen, reference.light, light, width)
-    scale = align.interocular(final, layout) / align.interocular(source_landmarks, layout)
-    patch = match_grain(patch, source, source_landmarks, reference, scale, gain)
+    warped = teeth.recolour(warped, np.log(gain), seen, reference.light, light, width)
 
     sigma = max(FEATHER * width, 0.5)
     # shrink by a feather before blurring, and cut at the polygon: the fade ends at the
     # lip line and never reaches the lips
     k = max(1, int(round(sigma)))
     mask = cv2.GaussianBlur(raster.erode(polygon, k), (0, 0), sigma) * polygon * weight
+    return Patch(box, warped, mask, gain, reference.noise)
 
+
+def blend(
+    image: np.ndarray, made: Patch | None, grain_of: Callable[[], tuple[float, np.ndarray]], *, in_place: bool = False
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """A :func:`patch` given the target photo's grain (:func:`match_grain`) and blended into ``image`` (step 3 above),
+    and its weight over the whole image.
+
+    Parameters
+    ----------
+    image : ndarray of shape (H, W, 3), uint8
+        The result so far (the target photo in its final geometry).
+    made : Patch or None
+        The patch; None: nothing is pasted.
+    grain_of : function giving a tuple of (float, ndarray of shape (3,))
+        The source's grain (:func:`source_grain`); called only when a patch is blended.
+    in_place : bool
+        Paste into ``image`` itself (a caller's own copy), not into a copy of it.
+
+    Returns
+    -------
+    image : ndarray of shape (H, W, 3), uint8
+        Unchanged (the same array) when ``made`` is None.
+    mask : ndarray of shape (H, W) or None
+        Weight of the pasted interior, None when nothing was pasted.
+    """
+    if made is None:
+        return image, None
+    box, mask = made.box, made.mask
     out = image if in_place else image.copy()
     region = out[box].astype(np.float32)
-    out[box] = np.clip(region + mask[..., None] * (patch - region) + 0.5, 0, 255).astype(np.uint8)
+    pixels = match_grain(made.pixels, grain_of(), made.noise, made.gain)
+    out[box] = np.clip(region + mask[..., None] * (pixels - region) + 0.5, 0, 255).astype(np.uint8)
     full = np.zeros(image.shape[:2], np.float32)
     full[box] = mask
     return out, full
+
+
+def opened(final: np.ndarray, source_landmarks: np.ndarray, layout: Layout, amount: float = 1.0) -> float:
+    """The paste's weight by the two mouths' opening (:data:`exprclone.mouth.measure.OPENING`) and ``amount``: 0 when
+    either mouth is closed, and no patch is made."""
+    return fade_in(opening(final, layout), OPENING) * fade_in(opening(source_landmarks, layout), OPENING) * amount

@@ -131,14 +131,13 @@ class Cloner:
         faces, options = self.faces, self.options
         expression = stages.expression(faces, source_expression, source_expression_points, options)
         shaded = any(m.ratio for m in chosen)
-        # the ERI's photo and the mouth's measures (the faces' own, made once) beside the shape stages: on another core
+        # the ERI's photo on another core, beside the shape stages and then the mouth's measures (the faces' own, made once)
         with concurrent.futures.ThreadPoolExecutor(1) as beside:
             photo = beside.submit(faces.expression_photo, expression.image, expression.points, expression.still) if shaded else None
-            measured = beside.submit(lambda: faces.mouth_reference) if shaded and options.mouth else None
             synthesis = render.synthesis(faces, expression, options.image_warp, None if photo is None else photo.result)
             shapes = stages.method_shapes(faces, options, expression, chosen, synthesis)
-            if measured is not None:
-                measured.result()
+            if shaded and options.mouth:
+                _ = faces.mouth_reference  # measured on this core meanwhile, once for every render's paste
             return Prepared(faces, options, self.transfer, chosen, expression, shapes, None if photo is None else photo.result())
 
     def choose_lambda(self, frames: Sequence[np.ndarray], points: Sequence[np.ndarray]) -> float:
