@@ -13,6 +13,7 @@ options' answer over HTTP that the page draws its controls from (``GET /api/opti
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any, TypeVar
@@ -245,8 +246,13 @@ def names(cls: type) -> tuple[str, ...]:
 
 def spec(cls: type, name: str) -> Spec:
     """The :class:`Spec` of the option ``name`` of ``cls``."""
-    found: Spec = {f.name: f for f in dataclasses.fields(cls)}[name].metadata["spec"]
-    return found
+    return _specs(cls)[name]
+
+
+@functools.cache
+def _specs(cls: type) -> dict[str, Spec]:
+    """Each option's :class:`Spec` by name, read once per class (every value made checks every option)."""
+    return {f.name: f.metadata["spec"] for f in dataclasses.fields(cls)}
 
 
 def key(cls: type, name: str) -> str:
