@@ -18,7 +18,7 @@ places) too.
 
 ``--write-template`` first writes ``src/exprclone/data/neutral_face.json``: the mean of the 72 neutral faces'
 detected landmarks (:data:`exprclone.pipeline.role_check.NEUTRAL_FACE`) and their blendshape scores' mean and spread
-(:data:`~exprclone.pipeline.role_check.REST`). ``--noise`` prints how far each of the check's three views moves when a
+(:data:`~exprclone.pipeline.role_check.REST`). ``--noise`` prints how far each of the check's four views moves when a
 photo is only made grey, relit or rebalanced (the standard deviation over the set's 144 photos and the five
 changes): :data:`~exprclone.pipeline.role_check.MARGINS`.
 """
@@ -158,10 +158,14 @@ def noise(people: list[str], photos: Photos) -> None:
                     role_check.rise(original.scores, changed.scores),
                     role_check.from_rest(original.scores) - role_check.from_rest(changed.scores),
                     role_check.expressiveness(original.points, DLIB68) - role_check.expressiveness(changed.points, DLIB68),
+                    role_check.smiling(original.scores) - role_check.smiling(changed.scores),
                 )
             )
     spread = np.std(moved, axis=0)
-    print(f"the light alone moves: rise by {spread[0]:.3g}, from_rest by {spread[1]:.3g}, expressiveness by {spread[2]:.3g}")
+    print(
+        f"the light alone moves: rise by {spread[0]:.3g}, from_rest by {spread[1]:.3g}, expressiveness by {spread[2]:.3g},"
+        f" smiling by {spread[3]:.3g}"
+    )
     print(f"(standard deviations over {len(moved)} changed photos; the margins used: {role_check.MARGINS})")
 
 

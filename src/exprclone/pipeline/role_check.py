@@ -19,7 +19,7 @@ Who a face is:
   :data:`SURELY_SAME` are one person's, and the descriptors (about 0.2 s a photo) are not computed.
 
 Which photo is the neutral face, judged by what any expression does to a face (not by how much it
-looks like a smile: a sad or a surprised face is no smile, a speaker's open mouth neither). Three
+looks like a smile alone: a sad or a surprised face is no smile, a speaker's open mouth neither). Four
 views, each a vote that the photos are swapped:
 
 - :func:`rise`: the blendshape scores (:mod:`exprclone.landmarks.blendshapes`, MediaPipe's 52
@@ -33,11 +33,14 @@ views, each a vote that the photos are swapped:
   same units): the "neutral" photo lies farther when the two are swapped;
 - :func:`expressiveness`: how far a face's moving landmarks (brows, lids, lips) lie from
   :data:`NEUTRAL_FACE`, the mean neutral face of the London Set, once its rigid landmarks are
-  aligned on it (root-mean-square, in eye distances): any expression moves them.
+  aligned on it (root-mean-square, in eye distances): any expression moves them;
+- :func:`smiling`: the two smile scores (``mouthSmileLeft``, ``mouthSmileRight``): the commonest
+  expression, whose weakest forms the three views above hardly see; the "neutral" photo smiles
+  more when the two are swapped (a face that does not smile votes for nothing here).
 
 Each view votes only beyond what a change of light alone gives it (:data:`MARGINS`: the spread of
 its value between a London photo and the same photo made grey, relit by +-15% from one ear to
-the other, or given another white balance); the photos look swapped when two of the three vote
+the other, or given another white balance); the photos look swapped when two of the four vote
 so. A face at rest is not quite still in any one view (a speaker's closed mouth presses its lips, a
 weak smile hardly moves the blendshapes); two views seldom err together.
 
@@ -79,10 +82,13 @@ TOP = 4
 #: the least spread of a score at rest (:data:`REST`): a score that no neutral face raises is not told apart to finer
 #: than the scorer's own steps (its scores move by 0.006 in the median, up to 0.035, with the light alone).
 REST_FLOOR = 0.02
-#: the votes' margins (:func:`votes`): :func:`rise`, :func:`from_rest` (score units at rest) and :func:`expressiveness`
-#: (eye distances) each vote only beyond one standard deviation of the change that light alone makes to them (a London
-#: photo against itself made grey, relit or given another white balance: ``tools/role_check.py --noise``).
-MARGINS = (1.74, 0.148, 0.0029)
+#: the smile scores :func:`smiling` adds.
+SMILE = blendshapes.indices(("mouthSmileLeft", "mouthSmileRight"))
+#: the votes' margins (:func:`votes`): :func:`rise`, :func:`from_rest` (score units at rest), :func:`expressiveness`
+#: (eye distances) and :func:`smiling` (scores) each vote only beyond one standard deviation of the change that light
+#: alone makes to them (a London photo against itself made grey, relit or given another white balance:
+#: ``tools/role_check.py --noise``).
+MARGINS = (1.74, 0.148, 0.0029, 0.037)
 
 
 def _learnt() -> dict[str, Any]:
@@ -206,20 +212,26 @@ def rise(neutral: np.ndarray, expression: np.ndarray) -> float:
     return float(change[-TOP:].sum() + change[:TOP].sum())
 
 
-def votes(neutral: Face, expression: Face, layout: Layout) -> tuple[bool, bool, bool]:
+def smiling(face: np.ndarray) -> float:
+    """How much a face smiles: the sum of its blendshape scores ``(52,)`` named :data:`SMILE`."""
+    return float(face[SMILE].sum())
+
+
+def votes(neutral: Face, expression: Face, layout: Layout) -> tuple[bool, bool, bool, bool]:
     """Whether each view says the source's photos are swapped (the module's notes): the scores fall (:func:`rise`), the
     "neutral" photo's scores lie farther from rest (:func:`from_rest`), its landmarks farther from the mean neutral face
-    (:func:`expressiveness`); each beyond its margin (:data:`MARGINS`)."""
-    falls, farther, moved = MARGINS
+    (:func:`expressiveness`), it smiles more (:func:`smiling`); each beyond its margin (:data:`MARGINS`)."""
+    falls, farther, moved, smiles = MARGINS
     return (
         rise(neutral.scores, expression.scores) < -falls,
         from_rest(neutral.scores) - from_rest(expression.scores) > farther,
         expressiveness(neutral.points, layout) - expressiveness(expression.points, layout) > moved,
+        smiling(neutral.scores) - smiling(expression.scores) > smiles,
     )
 
 
 def swapped(neutral: Face, expression: Face, layout: Layout) -> bool:
-    """Whether the source's photos look swapped: two of the three :func:`votes` say so."""
+    """Whether the source's photos look swapped: two of the four :func:`votes` say so."""
     return sum(votes(neutral, expression, layout)) >= 2
 
 
