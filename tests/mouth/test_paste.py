@@ -6,8 +6,11 @@ import pytest
 from scipy.spatial import Delaunay
 
 import exprclone
+from exprclone.drive.driver import closed_mouth_frame, strongest_frames
 from exprclone.imaging import piecewise, raster
-from exprclone.landmarks import lips
+from exprclone.io.video import read_frames
+from exprclone.landmarks import blendshapes, lips
+from exprclone.landmarks.backends import default_detector
 from exprclone.landmarks.layout import DLIB68
 from exprclone.mouth import measure, paste, tone
 
@@ -125,10 +128,17 @@ def test_pasted_interior_is_as_noisy_as_a_noisy_target_and_reproducible(grain_pa
 
 
 def test_the_target_lips_stay_the_target(open_pair):
+    """The paste reaches onto the lips by :data:`exprclone.mouth.paste.REACH` of the mouth's width, no further, and
+    never beyond the outer lips."""
     on, off, *_ = open_pair
-    grown = polygon_mask(on.image.shape, on.landmarks["final"][INNER])
-    grown = cv2.dilate(grown.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
-    assert np.array_equal(on.image[~grown], off.image[~grown])
+    final = on.landmarks["final"]
+    reach = int(np.ceil(paste.REACH * measure.mouth_width(final, DLIB68))) + 1
+    grown = polygon_mask(on.image.shape, final[INNER]).astype(np.uint8)
+    grown = cv2.dilate(grown, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * reach + 1,) * 2)).astype(bool)
+    outer = polygon_mask(on.image.shape, final[list(DLIB68.mouth_outer)])
+    kept = ~(grown & outer)
+    assert np.array_equal(on.image[kept], off.image[kept])
+    assert (on.mouth_mask[~polygon_mask(on.image.shape, final[INNER])] > 0.5).any()  # it does reach the lips
 
 
 def test_closed_mouth_source_changes_nothing(photo):
@@ -220,3 +230,49 @@ def test_an_orange_light_on_the_source_leaves_the_result_unchanged(open_pair, ph
     # the ERI is a ratio of the source's two photos' luma, in which their light cancels
     outside = on.mouth_mask == 0
     assert np.abs(lit.image[outside].astype(float) - on.image[outside]).mean() < 0.5
+
+
+#: MediaPipe's face mesh: its inner-lip contour, and its mouth corners.
+MESH_INNER = (78, 95, 88, 178, 87, 14, 317, 402, 318, 324, 308, 415, 310, 311, 312, 13, 82, 81, 80, 191)
+MESH_CORNERS = (61, 291)
+
+
+def mesh_opening(image):
+    """The inner-lip area over the squared mouth width as MediaPipe's face mesh reads the photo (as the blendshape
+    judge reads it)."""
+    points = blendshapes.shared().mesh.detect_mesh(image, "clone")
+    x, y = points[list(MESH_INNER)].T
+    return 0.5 * abs(np.dot(x, np.roll(y, 1)) - np.dot(y, np.roll(x, 1))) / np.sum(np.subtract(*points[list(MESH_CORNERS)]) ** 2)
+
+
+@pytest.fixture(scope="module")
+def speech(grid_mpg, photo):
+    """The GRID speaker bbaf2n's most closed frame and most open one (as ``exprclone video`` and
+    ``tools/grid_sources.py`` take them), with their landmarks, and target 001's neutral photo with its."""
+    frames = list(read_frames(grid_mpg))
+    points = np.array([default_detector().detect(frame, f"{grid_mpg.name} frame {k}") for k, frame in enumerate(frames)])
+    usable = np.ones(len(frames), bool)
+    opening = np.array([measure.opening(p, DLIB68) for p in points])
+    closed, (opened,) = closed_mouth_frame(points, usable, DLIB68), strongest_frames(opening, usable, 1, 5)
+    return (frames[closed], points[closed]), (frames[opened], points[opened]), photo("001")
+
+
+def test_a_speaking_mouth_reads_as_open_as_its_landmarks(speech, monkeypatch):
+    """A GRID speaker's open mouth onto a London face: the paste covers the whole opening, its feather on the lips (on
+    the inner-lip line it weighs more than half), so the face mesh reads the clone's lips parted wider than when the
+    paste faded out inside the line and left a band of the target's lips stretched over the opening."""
+    (sn, sn_lm), (se, se_lm), (tn, tn_lm) = speech
+
+    def cloned():
+        return exprclone.clone(sn, se, tn, method="e+md", retarget=False, landmarks=(sn_lm, se_lm, tn_lm))
+
+    reaching = cloned()
+    final = reaching.landmarks["final"]
+    assert measure.opening(final, DLIB68) > 3 * measure.OPENING[1]  # the clone's landmarks open the mouth
+    inside = polygon_mask(tn.shape, final[INNER])
+    line = inside & ~polygon_mask(tn.shape, final[INNER], shrink=1)
+    assert np.median(reaching.mouth_mask[line]) > 0.5
+    monkeypatch.setattr(paste, "REACH", 0.0)
+    stopping = cloned()
+    assert np.median(stopping.mouth_mask[line]) < 0.5  # the paste as it was: faded out at the line
+    assert mesh_opening(reaching.image) > mesh_opening(stopping.image)

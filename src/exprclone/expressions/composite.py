@@ -41,7 +41,7 @@ from ..imaging import piecewise, raster
 from ..landmarks import align
 from ..landmarks.layout import DLIB68, Layout
 from ..mouth.measure import mouth_width
-from ..mouth.paste import FEATHER
+from ..mouth.paste import feathered
 
 #: rounds of generalised Procrustes analysis: the reference moves by less than 1e-6 of its size after three.
 PROCRUSTES_ROUNDS = 5
@@ -171,10 +171,10 @@ def build(pairs: list[tuple[Face, Face]], layout: Layout = DLIB68, size: tuple[i
 
 
 def interior_mask(points: np.ndarray, size: tuple[int, int], layout: Layout = DLIB68) -> np.ndarray:
-    """The inside of the inner lips, feathered as :func:`exprclone.mouth.paste.patch` feathers its paste: ``(H, W)`` float32."""
+    """The inside of the inner lips, feathered as :func:`exprclone.mouth.paste.patch` feathers its paste
+    (:func:`exprclone.mouth.paste.feathered`), but ending at the inner-lip line: ``(H, W)`` float32."""
     polygon = raster.fill_polygon(np.zeros(size, np.float32), points[list(layout.mouth_inner)], 1.0)
-    sigma = max(FEATHER * mouth_width(points, layout), 0.5)
-    return cv2.GaussianBlur(raster.erode(polygon, max(1, int(round(sigma)))), (0, 0), sigma) * polygon
+    return feathered(polygon, mouth_width(points, layout))
 
 
 def with_interior(composite: Face, donor: Face, layout: Layout = DLIB68) -> Face:

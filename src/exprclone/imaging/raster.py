@@ -41,6 +41,11 @@ def erode(mask: np.ndarray, radius: int) -> np.ndarray:
     return cv2.erode(mask, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1, 2 * radius + 1)))
 
 
+def dilate(mask: np.ndarray, radius: int) -> np.ndarray:
+    """The mask dilated by a disc of ``radius`` pixels: the shape grown by ``radius`` all round."""
+    return cv2.dilate(mask, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1, 2 * radius + 1)))
+
+
 def shrink(image: np.ndarray, step: int) -> np.ndarray:
     """``image`` averaged over blocks of ``step x step`` pixels; a last partial block is left out.
 

@@ -15,8 +15,8 @@ dark cavity).
    cavity's where that light is doubtful (:func:`exprclone.mouth.teeth.recolour`), then blurred to the target
    photo's sharpness and given the target photo's noise (:func:`match_grain`), so
    teeth from a crisp photo do not stand out in a soft or grainy one;
-3. blended inside the inner-lip polygon with a feathered edge that ends at the lip line,
-   so the target's own lips stay the target's.
+3. blended inside the inner-lip polygon grown by :data:`REACH` onto the lips (never beyond the
+   outer lip line), with a feathered edge that ends there (:func:`reaching`).
 
 :func:`patch` makes it ready (the warp, its colour, the blend's weight) from the final landmarks alone;
 :func:`blend` gives it the grain and lays it on the image (a clone makes the patch while the photo is warped).
@@ -45,6 +45,17 @@ FEATHER = 0.015
 NOISE_SEED = 0
 #: the patch warped from the source reaches this share of the mouth width beyond the lips.
 PATCH_MARGIN = 0.1
+#: the paste reaches this share of the mouth width beyond the final inner-lip line, onto the lips: the landmarks'
+#: inner-lip line is where a fitter puts it, often inside the opening the photo shows (on GRID's speech frames
+#: MediaPipe's face mesh reads the openings 40% larger than dlib's inner lips, on average over the 11 clips), and a paste
+#: that stopped short of it, fading out before the line, left a band of the target's lips stretched over the opening:
+#: the face mesh read the clone's mouth as less open than its landmarks are (``jawOpen``, which rises steeply with the
+#: lips' parting, lost most of the source's rise). Chosen on the GRID clips brbk7n, lbax4n, sbwe5n and swiz3n
+#: (``tools/grid_sources.py --frames 2 --targets 001 005 112 096 --no-retarget``: the rise kept 0.41 at 0, 0.42 at
+#: 0.015, 0.45 at 0.03, 0.46 at 0.05, 0.50 at 0.08), the larger the more of the source's own lips in place of the
+#: target's; at 0.03 the London smiles are no worse (``exprclone evaluate --pairs 60 --held-out 4``: mouth error, identity,
+#: teeth shown and judged smiling within their intervals of 0) and the other 7 clips keep more too.
+REACH = 0.03
 
 
 def match_grain(patch: np.ndarray, source_grain: tuple[float, np.ndarray], noise: np.ndarray, gain: np.ndarray) -> np.ndarray:
@@ -189,11 +200,7 @@ def patch(
     seen = reference.source_interior or teeth.Interior.read((pixels[parts[0]], pixels[parts[1]]), mouth_width(source_landmarks, layout))
     warped = teeth.recolour(warped, np.log(gain), seen, reference.light, light, width)
 
-    sigma = max(FEATHER * width, 0.5)
-    # shrink by a feather before blurring, and cut at the polygon: the fade ends at the
-    # lip line and never reaches the lips
-    k = max(1, int(round(sigma)))
-    mask = cv2.GaussianBlur(raster.erode(polygon, k), (0, 0), sigma) * polygon * weight
+    mask = reaching(polygon, local[: len(layout.mouth_outer)], width) * weight
     return Patch(box, warped, mask, gain, reference.noise)
 
 
@@ -237,3 +244,17 @@ def opened(final: np.ndarray, source_landmarks: np.ndarray, layout: Layout, amou
     """The paste's weight by the two mouths' opening (:data:`exprclone.mouth.measure.OPENING`) and ``amount``: 0 when
     either mouth is closed, and no patch is made."""
     return fade_in(opening(final, layout), OPENING) * fade_in(opening(source_landmarks, layout), OPENING) * amount
+
+
+def feathered(region: np.ndarray, width: float) -> np.ndarray:
+    """``region`` (``(h, w)`` float32, 1 inside) feathered by :data:`FEATHER` of the mouth ``width``: shrunk by a feather
+    before it is blurred, and cut at its edge, so the fade ends there."""
+    sigma = max(FEATHER * width, 0.5)
+    return cv2.GaussianBlur(raster.erode(region, max(1, int(round(sigma)))), (0, 0), sigma) * region
+
+
+def reaching(polygon: np.ndarray, outer: np.ndarray, width: float) -> np.ndarray:
+    """The paste's weight: the inner-lip ``polygon`` (``(h, w)`` float32, 1 inside) grown by :data:`REACH` of the mouth
+    ``width`` but never beyond the ``outer`` lips (``(K, 2)`` points), :func:`feathered`."""
+    lips = raster.fill_polygon(np.zeros_like(polygon), outer, 1.0)
+    return feathered(np.maximum(raster.dilate(polygon, max(1, int(round(REACH * width)))) * lips, polygon), width)
