@@ -234,14 +234,15 @@ T = TypeVar("T")
 
 def checked(value: Any) -> None:
     """Check every field of an options value made of :func:`option` fields, in place (its ``__post_init__``)."""
-    for f in dataclasses.fields(value):
-        object.__setattr__(value, f.name, spec(type(value), f.name).check(getattr(value, f.name), key(type(value), f.name)))
+    cls: type = type(value)
+    for name, found in _specs(cls).items():
+        object.__setattr__(value, name, found.check(getattr(value, name), found.key or name))
 
 
 def names(cls: type) -> tuple[str, ...]:
     """The options of ``cls`` (:class:`~exprclone.options.Options` or another value made of :func:`option` fields), in
     their order."""
-    return tuple(f.name for f in dataclasses.fields(cls))
+    return tuple(_specs(cls))
 
 
 def spec(cls: type, name: str) -> Spec:
