@@ -32,8 +32,6 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from exprclone.data import sets as datasets
-
 ROOT = Path(__file__).resolve().parents[1]
 #: a ratio this far from 1 on a material swap is an artifact (a fifth of the ERI's clamp).
 ARTIFACT = 0.05
@@ -145,7 +143,18 @@ def ring_table(data: Path, ring: list[tuple[str, str]], before: Path, after: Pat
     return [(b, pair) for b, _, pair in found]
 
 
+def render_main() -> None:
+    """The before commit's process (:func:`render_before`): :func:`render` with its own package, nothing newer imported."""
+    parser = argparse.ArgumentParser()
+    for name in ("--render", "--data", "--pairs"):
+        parser.add_argument(name, required=True)
+    args = parser.parse_args()
+    render(Path(args.data), [tuple(p.split(":")) for p in args.pairs.split(",")], Path(args.render))
+
+
 def main() -> None:
+    from exprclone.data import sets as datasets  # here: render_main's process runs this file on an older package
+
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     datasets.add_argument(parser, "london", holds="the London Set folder")
     parser.add_argument("--scores", type=Path, help="pairs.csv of an evaluate run of the before commit")
@@ -155,11 +164,7 @@ def main() -> None:
     parser.add_argument("--ring", type=int, default=0, help="only the first N people's smiles of the ring (default: all)")
     parser.add_argument("--work", type=Path, help="keep the rendered pairs here (default: a temporary folder)")
     parser.add_argument("-o", "--output", default="docs/_static/fidelity.jpg")
-    parser.add_argument("--render", type=Path, help=argparse.SUPPRESS)  # the before commit's process
-    parser.add_argument("--pairs", help=argparse.SUPPRESS)
     args = parser.parse_args()
-    if args.render:
-        return render(args.data, [tuple(p.split(":")) for p in args.pairs.split(",")], args.render)
     people = sorted(p.name[:3] for p in (args.data / "neutral_front").glob("*_03.jpg"))
     ring = [(people[i], people[(i + 1) % len(people)]) for i in range(args.ring or len(people))]
     worst = worst_pairs(args.scores, args.worst)
@@ -197,4 +202,4 @@ def header(width: int) -> np.ndarray:
 
 
 if __name__ == "__main__":
-    main()
+    render_main() if "--render" in sys.argv else main()
