@@ -24,7 +24,7 @@ makes the target a stranger (``../shared/notes/identity.md``). So, in each face'
 
 The source's expression is kept about as the paper's stages keep it (the blendshape judge,
 :mod:`exprclone.evaluation.blendshape_judge`: the clone's change from the target's neutral face
-0.005 +/- 0.011 nearer the source's change than theirs on the pairs below, 0.013 +/- 0.013 further
+0.005 +/- 0.011 nearer the source's change than theirs on the pairs below, 0.010 +/- 0.013 further
 on those ``docs/results`` reports), with most of the identity gained (0.037 +/- 0.004 less excess
 over a real smile as wide). :data:`RIDGE` and
 :data:`SPREAD` were chosen on held-out pairs that ``docs/results`` does not report
