@@ -12,13 +12,16 @@ opens it most as the expression, in the right order and swapped. It prints how o
 orders that swap the target's photo with one of the source's, how often the warning names those two boxes. The mean
 neutral face and the scores at rest are learnt without the person judged (leave-one-out; for GRID, from all 72), so
 every rate is measured on a person they never saw; the rates are printed for each half of the set (even and odd
-places) too.
+places) too. With ``--edited``, every person's neutral photo is also edited by the expression editor
+(:mod:`exprclone.expressions.editor`) into each built-in expression it makes (surprise, sad, angry:
+``tools/build_expressions.py``'s :data:`EDITED`) and by each of :data:`CONTROLS` alone at 1 and at 0.5, the landmarks
+found afresh on the edited photo: the neutral photo and its edit in the right order, and swapped.
 
-    PYTHONPATH=src python tools/role_check.py [--data ../shared/data] [--write-template] [--noise]
+    PYTHONPATH=src python tools/role_check.py [--data ../shared/data] [--write-template] [--noise] [--edited]
 
 ``--write-template`` first writes ``src/exprclone/data/neutral_face.json``: the mean of the 72 neutral faces'
 detected landmarks (:data:`exprclone.pipeline.role_check.NEUTRAL_FACE`) and their blendshape scores' mean and spread
-(:data:`~exprclone.pipeline.role_check.REST`). ``--noise`` prints how far each of the check's four views moves when a
+(:data:`~exprclone.pipeline.role_check.REST`). ``--noise`` prints how far each of the check's five views moves when a
 photo is only made grey, relit or rebalanced (the standard deviation over the set's 144 photos and the five
 changes): :data:`~exprclone.pipeline.role_check.MARGINS`.
 """
@@ -28,10 +31,12 @@ import json
 from pathlib import Path
 
 import numpy as np
+from build_expressions import EDITED
 
 from exprclone.data import sets as datasets
 from exprclone.drive.driver import closed_mouth_frame
 from exprclone.errors import ExprCloneError
+from exprclone.expressions.editor import Editor, request
 from exprclone.io.images import load_image
 from exprclone.io.video import read_frames
 from exprclone.landmarks import align
@@ -54,6 +59,8 @@ ORDERS = {
 }
 #: a GRID frame is an expression when its mouth opens at least this share of the clip's widest opening.
 OPEN = 0.5
+#: the expression editor's controls whose edits alone are judged (``--edited``), each at 1 and at 0.5.
+CONTROLS = ("mouth_open", "pucker", "frown", "brows_up", "brows_down", "eyes_closed", "smile")
 Photos = dict[tuple[str, str, str], role_check.Face]
 
 
@@ -149,24 +156,38 @@ def judged(people: list[str], photos: Photos, others: int) -> dict[str, list[tup
 def noise(people: list[str], photos: Photos) -> None:
     """How far each view of the check moves with the light alone (:data:`~exprclone.pipeline.role_check.MARGINS`)."""
     learn(people, photos)
-    moved = []
-    for (i, kind, change), changed in photos.items():
-        if change != "as is":
-            original = photos[i, kind, "as is"]
-            moved.append(
-                (
-                    role_check.rise(original.scores, changed.scores),
-                    role_check.from_rest(original.scores) - role_check.from_rest(changed.scores),
-                    role_check.expressiveness(original.points, DLIB68) - role_check.expressiveness(changed.points, DLIB68),
-                    role_check.smiling(original.scores) - role_check.smiling(changed.scores),
-                )
-            )
+    moved = [
+        role_check.says(photos[i, kind, "as is"], changed, DLIB68) * role_check.MARGINS
+        for (i, kind, change), changed in photos.items()
+        if change != "as is"
+    ]
     spread = np.std(moved, axis=0)
     print(
         f"the light alone moves: rise by {spread[0]:.3g}, from_rest by {spread[1]:.3g}, expressiveness by {spread[2]:.3g},"
-        f" smiling by {spread[3]:.3g}"
+        f" smiling by {spread[3]:.3g}, width by {spread[4]:.3g}"
     )
     print(f"(standard deviations over {len(moved)} changed photos; the margins used: {role_check.MARGINS})")
+
+
+def edits() -> dict[str, dict[str, float]]:
+    """The editor's values of each edit judged (``--edited``), by name: the built-in expressions, then each control."""
+    made = {name: values for name, (values, _) in EDITED.items()}
+    return made | {f"{control} {value:g}": {control: value} for control in CONTROLS for value in (1.0, 0.5)}
+
+
+def edited(people: list[str], photos: Photos) -> None:
+    """How often a neutral photo and its edit are flagged, in the right order and swapped (the module's notes)."""
+    made = edits()
+    flags = {name: np.zeros(2, int) for name in made}
+    for i in people:
+        learn([j for j in people if j != i], photos)  # leave-one-out
+        neutral = photos[i, "n", "as is"]
+        editor = Editor.of(request(neutral.image, neutral.points))
+        for name, values in made.items():
+            changed = face(editor.render(values).image, f"{i} edited ({name})")
+            flags[name] += (bool(flagged(neutral, changed)), bool(flagged(changed, neutral)))
+    for name, (right, swapped) in flags.items():
+        print(f"edited {name:16s} right order flagged {right:2d} of {len(people)}, swapped flagged {swapped:2d} of {len(people)}")
 
 
 def report(kind: str, rows: list[tuple[int, bool, bool]]) -> None:
@@ -186,6 +207,7 @@ def main() -> None:
     parser.add_argument("--write-template", action="store_true", help="write the mean neutral face and the scores at rest first")
     parser.add_argument("--noise", action="store_true", help="print how far the light alone moves each view")
     parser.add_argument("--no-grid", dest="grid", action="store_false", help="leave GRID's clips out")
+    parser.add_argument("--edited", action="store_true", help="judge the neutral photos edited by the expression editor too")
     args = parser.parse_args()
     people, photos = load(args.data / "london")
     if args.write_template:
@@ -202,10 +224,13 @@ def main() -> None:
         noise(people, photos)
     print(f"bounds: SURELY_SAME {role_check.SURELY_SAME}, SAME_PERSON {role_check.SAME_PERSON}, MARGINS {role_check.MARGINS},")
     print(
-        f"TOP {role_check.TOP}, REST_FLOOR {role_check.REST_FLOOR}; each person judged with the face and scores at rest learnt without them"
+        f"CAP {role_check.CAP}, SWAPPED {role_check.SWAPPED}, TOP {role_check.TOP}, REST_FLOOR {role_check.REST_FLOOR};"
+        " each person judged with the face and scores at rest learnt without them"
     )
     for kind, rows in judged(people, photos, args.others).items():
         report(kind, rows)
+    if args.edited:
+        edited(people, photos)
     if args.grid:
         learn(people, photos)
         for clip, pairs in grid_pairs(args.data / "grid").items():
