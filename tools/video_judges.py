@@ -39,6 +39,10 @@ palest and the three darkest of the London Set by their cheeks' L*
   output keeps (its ``jawOpen`` over the portrait's, summed over the frames, over the driver's over its neutral frame's:
   :data:`JAW_MOVES` at least, or NaN). The judge: closer to the driving frames
   than the still portrait.
+- identity: dlib's identity distance (:func:`exprclone.pipeline.role_check.identity_distance`) between the output
+  and the portrait on the :data:`IDENTITY_FRAMES` frames it opens its mouth most (its rendered landmarks), beside the
+  driver's own between the same frames and its neutral frame (how far a real speaker's face drifts from itself), the
+  means over those frames; no verdict (the smile's identity judge, ``exprclone evaluate``, is the one with a line).
 - motion: the correlation over time of the mouth opening (:func:`exprclone.mouth.measure.opening`),
   the driver's against the output's, both from landmarks found afresh on each frame; and, for
   diagnosis, the same with the output's rendered geometry (its final landmarks) in place of
@@ -74,6 +78,8 @@ TEETH_FRAMES = 3
 JAW_MOVES = 0.02
 #: the driver's head is still when its rigid landmarks move less than this (eye distances) from a frame to the next.
 STILL = 0.01
+#: the frames whose output's identity is judged: those with the mouth opened most.
+IDENTITY_FRAMES = 5
 
 
 def teeth_lab(image: np.ndarray, landmarks: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
@@ -183,6 +189,25 @@ def expression(outputs: list[tuple[int, np.ndarray]], driver: list[np.ndarray | 
     return found
 
 
+def identity(
+    outputs: list[np.ndarray],
+    finals: list[np.ndarray],
+    portrait: tuple[np.ndarray, np.ndarray],
+    driving: list[tuple[np.ndarray, np.ndarray]],
+) -> dict:
+    """The identity judge of a driven clip (the module's notes): ``outputs`` with their rendered landmarks ``finals``, the
+    ``portrait`` and its landmarks, and the driving frames with their landmarks, the neutral frame's first."""
+    from exprclone.landmarks.layout import DLIB68
+    from exprclone.mouth import measure
+    from exprclone.pipeline.role_check import descriptor, identity_distance
+
+    opened = np.argsort([-measure.opening(p, DLIB68) for p in finals])[:IDENTITY_FRAMES]
+    own, rest = descriptor(*portrait), descriptor(*driving[0])
+    mine = [identity_distance(descriptor(outputs[k], finals[k]), own) for k in opened]
+    theirs = [identity_distance(descriptor(*driving[k + 1]), rest) for k in opened]
+    return {"identity": float(np.mean(mine)), "driver_identity": float(np.mean(theirs))}
+
+
 def judge(case: tuple[Path, str, Path, int, str, tuple[float, float] | None, list[np.ndarray | None]]) -> dict:
     """One clip driving one portrait (with its person's own teeth, :func:`own_teeth`, and the clip's frames' blendshape
     scores, :func:`clip_scores`): every measure of the module's notes."""
@@ -256,6 +281,12 @@ def judge(case: tuple[Path, str, Path, int, str, tuple[float, float] | None, lis
         "correlation": float(np.corrcoef(opening, driver_opening)[0, 1]),
         "rendered_correlation": float(np.corrcoef(rendered, driver_opening)[0, 1]),
         **expression(list(zip(indices, outputs)), driver_scores, scores_of(portrait, face), neutral),
+        **identity(
+            outputs,
+            finals,
+            (portrait, portrait_points),
+            [(frames[neutral], driver_points[neutral])] + [(frames[k], driver_points[k]) for k in indices],
+        ),
     }
 
 
@@ -299,8 +330,8 @@ def main() -> None:
     print(f"exprclone video judges: {args.method} at {args.size} px, portraits {' '.join(portraits)}, {len(clips)} GRID clips\n")
     print("clip | portrait | teeth frames | yellowness (own) | lightness (own) | lip fall (driver's) | ", end="")
     print("jitter (driver's) | rendered jitter (tracked) | flicker (driver's; in the portrait's light) | opening r (rendered) | ", end="")
-    print("expression to driver (still portrait's) | rise kept | jawOpen r (kept)")
-    print("---|---|---|---|---|---|---|---|---|---|---|---|---")
+    print("expression to driver (still portrait's) | rise kept | jawOpen r (kept) | identity (driver's own)")
+    print("---|---|---|---|---|---|---|---|---|---|---|---|---|---")
     rows = []
     with concurrent.futures.ProcessPoolExecutor(args.jobs) if args.jobs > 1 else contextlib.nullcontext() as pool:
         for row in (pool.map if pool else map)(judge, cases):
@@ -316,6 +347,7 @@ def main() -> None:
                 f"{row['to_driver']:.3f} ({row['still_to_driver']:.3f})",
                 f"{row['rise_kept']:.2f}",
                 f"{row['jaw_r']:.2f} ({row['jaw_kept']:.2f})",
+                f"{row['identity']:.3f} ({row['driver_identity']:.3f})",
             ]
             print(" | ".join(cells), flush=True)
     print("\njitter in thousandths of an eye distance; yellowness and lightness over the cheeks, in b* and L*")
@@ -337,6 +369,9 @@ def main() -> None:
     relit = sum(r["flicker"] <= r["relit_flicker"] for r in judged)
     print(f"flicker at most the driver's interior's in the portrait's light on {relit} of {len(judged)} cases")
     expression_summary(rows)
+    mine, theirs = (np.median([r[k] for r in rows]) for k in ("identity", "driver_identity"))
+    print(f"identity to the portrait on its {IDENTITY_FRAMES} most open frames: median {mine:.3f}", end="")
+    print(f" (the driver's own from its neutral frame {theirs:.3f})")
 
 
 def expression_summary(rows: list[dict]) -> None:
