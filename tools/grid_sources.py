@@ -13,7 +13,7 @@ frame to the open one (``jawOpen`` and the like), how much the clone raises them
 share of the source's rise. It prints a row per clip (the mean over its frames and targets, the worst target, the names
 raised most) and the mean over the clips; issue 57 asks for 0.7 on every speaker.
 
-Beside each clip's figure, the judge's ceiling (:func:`ceiling`): the rise kept when the source's own motion, as the
+Beside each clip's figure, the judge's ceiling (:func:`laid`): the rise kept when the source's own motion, as the
 judge's face mesh reads it on the source's two frames, is laid on the target's mesh (similarity-aligned) and scored with
 no image at all: what a clone that moved the target's face exactly as the source's moved would be given. The judge
 reads one motion with another gain on another face (the same jaw drop raises ``jawOpen`` half as much on some London
@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import collections
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -76,37 +77,49 @@ def scored(image: np.ndarray, name: str) -> np.ndarray | None:
     return None if mesh is None else blendshapes.shared().of_mesh(mesh)
 
 
-def ceiling(rest: np.ndarray, moved: np.ndarray, target: np.ndarray) -> float:
-    """The rise kept (:func:`~exprclone.evaluation.blendshape_judge.rise_kept`) of the source's mesh motion from ``rest``
-    to ``moved`` laid on the target's mesh ``target`` (each ``(478, 2)``), brought to the target's frame by the
-    least-squares similarity between the two rest meshes: the judge's reading of an exact transfer of the motion."""
-    of_mesh = blendshapes.shared().of_mesh
+class Target(NamedTuple):
+    """A London face cloned onto: its neutral photo, its landmarks, and the judge's mesh and scores of it (None where
+    the mesh finds no face), read once for every clone."""
+
+    image: np.ndarray
+    points: np.ndarray
+    mesh: np.ndarray | None
+    scores: np.ndarray | None
+
+
+def laid(rest: np.ndarray, moved: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """The source's mesh motion from ``rest`` to ``moved`` laid on the target's mesh ``target`` (each ``(478, 2)``),
+    brought to the target's frame by the least-squares similarity between the two rest meshes: an exact transfer of the
+    motion, whose rise kept is the judge's ceiling for a clone."""
     linear = align.fit_similarity(rest, target)[:, :2]
-    laid = target + (moved - rest) @ linear.T
-    return blendshape_judge.rise_kept(of_mesh(rest), of_mesh(moved), of_mesh(target), of_mesh(laid))
+    return target + (moved - rest) @ linear.T
 
 
-def kept(clip: Path, targets: dict[str, tuple[np.ndarray, np.ndarray]], frames: int, options: dict) -> dict[str, list[float]]:
-    """The rise kept of each of a clip's expressions on each target, by target; the judge's :func:`ceiling` of each
-    (under ``"ceiling"``); and the names the source raises most (under ``"names"``)."""
+def kept(clip: Path, targets: dict[str, Target], frames: int, options: dict) -> tuple[dict[str, list[float]], list[float], list[str]]:
+    """The rise kept of each of a clip's expressions on each target, by target; the judge's ceiling of each (the rise
+    kept of the source's motion :func:`laid` on the target's mesh); and the names the source raises most."""
     (neutral, neutral_points), expressions = source(clip, frames)
     rest_mesh = meshed(neutral, f"{clip.name} closed frame")
-    out: dict[str, list] = collections.defaultdict(list)
-    for k, (frame, points) in enumerate(expressions):
+    of_mesh = blendshapes.shared().of_mesh
+    by_target: dict[str, list[float]] = collections.defaultdict(list)
+    ceilings: list[float] = []
+    names: list[str] = []
+    for frame, points in expressions:
         moved_mesh = meshed(frame, f"{clip.name} open frame")
         if rest_mesh is None or moved_mesh is None:
             continue
-        rest, moved = blendshapes.shared().of_mesh(rest_mesh), blendshapes.shared().of_mesh(moved_mesh)
+        rest, moved = of_mesh(rest_mesh), of_mesh(moved_mesh)
         top = np.argsort(-(moved - rest)[blendshape_judge.PLACES["total"]])[: blendshape_judge.RISE_TOP]
-        out["names"] += [blendshapes.EXPRESSION[i] for i in top]
-        for name, (target, target_points) in targets.items():
-            made = clone(neutral, frame, target, landmarks=(neutral_points, points, target_points), **options)
-            target_mesh, result = meshed(target, name), scored(made.image, f"{name} clone")
-            if target_mesh is not None and result is not None:
-                target_rest = blendshapes.shared().of_mesh(target_mesh)
-                out[name].append(blendshape_judge.rise_kept(rest, moved, target_rest, result))
-                out["ceiling"].append(ceiling(rest_mesh, moved_mesh, target_mesh))
-    return out
+        names += [blendshapes.EXPRESSION[i] for i in top]
+        for name, target in targets.items():
+            if target.mesh is None or target.scores is None:
+                continue
+            made = clone(neutral, frame, target.image, landmarks=(neutral_points, points, target.points), **options)
+            result = scored(made.image, f"{name} clone")
+            if result is not None:
+                by_target[name].append(blendshape_judge.rise_kept(rest, moved, target.scores, result))
+                ceilings.append(blendshape_judge.rise_kept(rest, moved, target.scores, of_mesh(laid(rest_mesh, moved_mesh, target.mesh))))
+    return by_target, ceilings, names
 
 
 def main() -> None:
@@ -125,15 +138,16 @@ def main() -> None:
     detect, targets = default_detector().detect, {}
     for name in args.targets:
         image = load_image(args.data / "london" / "neutral_front" / f"{name}_03.jpg")
-        targets[name] = (image, detect(image, name))
+        mesh = meshed(image, name)
+        targets[name] = Target(image, detect(image, name), mesh, None if mesh is None else blendshapes.shared().of_mesh(mesh))
     options = {"method": args.method, "retarget": args.retarget}
     shown = f"{args.method}{'' if args.retarget else ', --no-retarget'}"
     print(f"{shown}: the rise kept of {args.frames} open frames per clip onto {', '.join(targets)}")
     means, ceilings = [], []
     for clip in clips:
-        found = kept(clip, targets, args.frames, options)
-        names = collections.Counter(found.pop("names")).most_common(3)
-        ceilings.append(float(np.mean(found.pop("ceiling"))))
+        found, ceiling, raised_names = kept(clip, targets, args.frames, options)
+        names = collections.Counter(raised_names).most_common(3)
+        ceilings.append(float(np.mean(ceiling)))
         per_target = {name: float(np.mean(v)) for name, v in found.items() if v}
         mean = float(np.mean([x for v in found.values() for x in v]))
         means.append(mean)
