@@ -18,7 +18,9 @@ Prints, for the sample photos at 512x512 and at their full 1350x1350:
     precomputed), a global and an e+md clone with landmarks known, all in turn, through
     ``exprclone.clone`` and through a ``Cloner`` made for each clone (the stages under
     ``clone``'s role check), and the two ratios against their targets: global within 6x
-    the remap, e+md within 3x global (``--targets``: these alone);
+    the remap, e+md within 3x global; beside them, e+md on a closed-mouth smile (no paste),
+    and each clone's CPU time with the least wall-clock time it fits in on the machine's
+    cores (``--targets``: these alone);
   * our piecewise-affine warp against scikit-image's PiecewiseAffineTransform + warp on
     the same points and image, and against a bare cv2.remap with precomputed maps (the
     floor for any warp; measured in turn with ours, so both see the same load), as
@@ -74,15 +76,23 @@ def median_ms(fn, repeat: int) -> float:
 
 def interleaved_ms(fns: dict, repeat: int) -> dict[str, float]:
     """Median times of several functions run in turn, so that all see the same load."""
+    return interleaved(fns, repeat)[0]
+
+
+def interleaved(fns: dict, repeat: int) -> tuple[dict[str, float], dict[str, float]]:
+    """:func:`interleaved_ms`, and the median CPU time of each (``time.process_time``: every thread of the process)."""
     for fn in fns.values():
         fn()
-    times = {name: [] for name in fns}
+    wall: dict[str, list[float]] = {name: [] for name in fns}
+    cpu: dict[str, list[float]] = {name: [] for name in fns}
     for _ in range(repeat):
         for name, fn in fns.items():
-            t = time.perf_counter()
+            t, c = time.perf_counter(), time.process_time()
             fn()
-            times[name].append(time.perf_counter() - t)
-    return {name: 1000 * statistics.median(t) for name, t in times.items()}
+            wall[name].append(time.perf_counter() - t)
+            cpu[name].append(time.process_time() - c)
+    walls, cpus = ({name: 1000 * statistics.median(t) for name, t in times.items()} for times in (wall, cpu))
+    return walls, cpus
 
 
 def photos(data: Path, size: int) -> tuple[list[np.ndarray], list[np.ndarray]]:
@@ -190,34 +200,49 @@ GLOBAL_IN_REMAPS, EMD_IN_GLOBALS = 6.0, 3.0
 def teeth_photos() -> tuple[list[np.ndarray], list[np.ndarray]]:
     """The package's sample smile of 126 (it shows teeth: e+md pastes its mouth's interior, every stage runs) and the
     neutral photos of 126 and 003, at 1350x1350, with their landmarks."""
-    images = [sample_photo("126"), sample_photo("126", "smile"), sample_photo("003")]
+    return sample_photos("126", "003")
+
+
+def sample_photos(source: str, target: str) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """The package's neutral and smiling photos of ``source`` and the neutral photo of ``target``, with their landmarks."""
+    images = [sample_photo(source), sample_photo(source, "smile"), sample_photo(target)]
     return images, [default_detector().detect(im) for im in images]
 
 
-def speed_targets(images, lms, repeat: int) -> dict[str, float]:
+#: the closed-mouth smile the speed targets show beside the teeth of :func:`teeth_photos`: 001's, onto 003 (no paste).
+CLOSED = "e+md (clone), 001's closed-mouth smile"
+
+
+def speed_targets(images, lms, repeat: int) -> tuple[dict[str, float], dict[str, float]]:
     """One remap of the target photo, and global and e+md clones with landmarks known (through ``clone``, and through a
-    new ``Cloner`` each: what lies under ``clone``'s role check), in turn, 3x as many runs: the targets are ratios."""
+    new ``Cloner`` each: what lies under ``clone``'s role check), in turn, 3x as many runs: the targets are ratios; and
+    an e+md clone of a closed-mouth smile (:data:`CLOSED`: no paste, and nothing measured for one). The wall-clock
+    medians, and the CPU time of each (both cores' work)."""
     tn_img, tn = images[2], lms[2]
     mesh = piecewise.build_mesh(tn, tn_img.shape, DLIB68)
     mx, my = piecewise.inverse_maps(mesh.points, mesh.control_points(lms[1]), mesh.triangles, tn_img.shape[:2])
+    closed, closed_lms = sample_photos("001", "003")
 
     def cloned(method: str):
         return lambda: pair(Request.of(images[0], None, tn_img, landmarks=(lms[0], None, tn))).clone_methods(images[1], lms[1], (method,))
 
-    return interleaved_ms(
+    return interleaved(
         {
             "cv2.remap of the photo": lambda: cv2.remap(tn_img, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE),
             "global (clone)": lambda: clone(*images, method="global", landmarks=lms),
             "e+md (clone)": lambda: clone(*images, method="e+md", landmarks=lms),
             "global (Cloner)": cloned("global"),
             "e+md (Cloner)": cloned("e+md"),
+            CLOSED: lambda: clone(*closed, method="e+md", landmarks=closed_lms),
         },
         3 * repeat,
     )
 
 
-def show_targets(rows: dict[str, float]) -> None:
-    """The two ratios of :func:`speed_targets` against their targets, through ``clone`` and through ``Cloner``."""
+def show_targets(rows: dict[str, float], cpu: dict[str, float]) -> None:
+    """The two ratios of :func:`speed_targets` against their targets, through ``clone`` and through ``Cloner``; and each
+    clone's CPU time, with the least wall-clock time that much CPU time fits in on the machine's cores (all of them busy
+    all along), in global clones: while a clone spends that much, no scheduling of it takes less."""
     for way in ("clone", "Cloner"):
         glob, emd = rows[f"global ({way})"], rows[f"e+md ({way})"]
         for name, ratio, target, peer in (
@@ -225,6 +250,11 @@ def show_targets(rows: dict[str, float]) -> None:
             (f"e+md ({way}) / global ({way})", emd / glob, EMD_IN_GLOBALS, "global"),
         ):
             print(f"  {name:60s} {ratio:6.2f}x (target {target:g}x {peer}: {'met' if ratio <= target else 'NOT met'})")
+    cores, glob = os.cpu_count() or 1, rows["global (clone)"]
+    print(f"  {CLOSED + ' / global (clone)':60s} {rows[CLOSED] / glob:6.2f}x")
+    for name in ("global (clone)", "e+md (clone)", CLOSED):
+        least = cpu[name] / cores
+        print(f"  {name + ', CPU time':60s} {cpu[name]:6.1f} ms (on {cores} cores at least {least:.1f} ms, {least / glob:.2f}x global)")
 
 
 def warp_peers(images, lms, repeat: int) -> dict[str, float]:
@@ -317,9 +347,9 @@ def main() -> None:
     data = Path(args.data)
     print(f"exprclone benchmarks: {os.cpu_count()} cores, median of {args.repeat} runs")
     if args.targets:
-        rows = speed_targets(*teeth_photos(), args.repeat)
+        rows, cpu = speed_targets(*teeth_photos(), args.repeat)
         show("issue 52's speed targets at 1350x1350 (landmarks known), in turn, ratio to the remap", rows, "cv2.remap of the photo")
-        return show_targets(rows)
+        return show_targets(rows, cpu)
     for size in (512, 1350):
         images, lms = photos(data, size)
         show(f"stages at {size}x{size}", stages(images, lms, args.repeat))
@@ -331,9 +361,9 @@ def main() -> None:
             PEERS,
         )
         if size == 1350:
-            rows = speed_targets(*teeth_photos(), args.repeat)
+            rows, cpu = speed_targets(*teeth_photos(), args.repeat)
             show("issue 52's speed targets at 1350x1350 (landmarks known), in turn, ratio to the remap", rows, "cv2.remap of the photo")
-            show_targets(rows)
+            show_targets(rows, cpu)
         show(
             f"piecewise-affine warp at {size}x{size}, ratio to the bare remap",
             warp_peers(images, lms, args.repeat),

@@ -141,13 +141,22 @@ def test_the_target_lips_stay_the_target(open_pair):
     assert (on.mouth_mask[~polygon_mask(on.image.shape, final[INNER])] > 0.5).any()  # it does reach the lips
 
 
-def test_closed_mouth_source_changes_nothing(photo):
+def test_closed_mouth_source_changes_nothing(photo, monkeypatch):
+    """A source's closed mouth pastes nothing, and the photos are not measured for a paste (a fifth of e+md's work); an
+    open one's are, once."""
     (sn, sn_lm), (se, se_lm), (tn, tn_lm) = photo("003"), photo("003", "smile"), photo("001")
     assert measure.opening(se_lm, DLIB68) < measure.OPENING[0]
     lms = (sn_lm, se_lm, tn_lm)
+    measured = []
+    real = tone.Reference.measure
+    monkeypatch.setattr(tone.Reference, "measure", lambda *a, **k: measured.append(1) or real(*a, **k))
     on = exprclone.clone(sn, se, tn, method="elastic+eri", landmarks=lms)
+    assert measured == []
     off = exprclone.clone(sn, se, tn, method="elastic+eri", landmarks=lms, mouth=False)
     assert on.mouth_mask is None and np.array_equal(on.image, off.image)
+    (sn, sn_lm), (se, se_lm) = photo("126"), photo("126", "smile")
+    opened = exprclone.clone(sn, se, tn, method="elastic+eri", landmarks=(sn_lm, se_lm, tn_lm))
+    assert opened.mouth_mask is not None and measured == [1]
 
 
 def test_closed_lips_the_fitter_left_apart_paste_nothing(photo):

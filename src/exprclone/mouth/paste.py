@@ -241,9 +241,16 @@ def blend(
 
 
 def opened(final: np.ndarray, source_landmarks: np.ndarray, layout: Layout, amount: float = 1.0) -> float:
-    """The paste's weight by the two mouths' opening (:data:`exprclone.mouth.measure.OPENING`) and ``amount``: 0 when
-    either mouth is closed, and no patch is made."""
-    return fade_in(opening(final, layout), OPENING) * fade_in(opening(source_landmarks, layout), OPENING) * amount
+    """The paste's weight by the two mouths' opening (:func:`open_share`) and ``amount``: 0 when either mouth is closed,
+    and no patch is made."""
+    return open_share(final, layout) * open_share(source_landmarks, layout) * amount
+
+
+def open_share(landmarks: np.ndarray, layout: Layout) -> float:
+    """How open a mouth is for the paste, by its :func:`~exprclone.mouth.measure.opening`: 0 closed, 1 fully open
+    (:data:`exprclone.mouth.measure.OPENING`). A source's closed mouth gives no paste whatever the geometry it is cloned
+    to, so nothing is measured for one."""
+    return fade_in(opening(landmarks, layout), OPENING)
 
 
 def feathered(region: np.ndarray, width: float) -> np.ndarray:

@@ -25,6 +25,7 @@ from ..details.stage import ExpressionPhoto
 from ..errors import ExprCloneError
 from ..geometry.weights import Transfer
 from ..methods import Method, lookup
+from ..mouth import paste
 from ..options import RENDER, Options
 from . import render, stages
 from .checks import check_for_target
@@ -136,7 +137,7 @@ class Cloner:
             photo = beside.submit(faces.expression_photo, expression.image, expression.points, expression.still) if shaded else None
             synthesis = render.synthesis(faces, expression, options.image_warp, None if photo is None else photo.result)
             shapes = stages.method_shapes(faces, options, expression, chosen, synthesis)
-            if shaded and options.mouth:
+            if shaded and options.mouth and paste.open_share(expression.points, faces.layout) > 0:
                 _ = faces.mouth_reference  # measured on this core meanwhile, once for every render's paste
             return Prepared(faces, options, self.transfer, chosen, expression, shapes, None if photo is None else photo.result())
 

@@ -115,9 +115,9 @@ class Faces:
         Faces
             A copy whose :attr:`mouth_reference` holds the pool (the rest shared with these faces).
         """
-        reference, layout = self.mouth_reference, self.layout
         if not len(frames):
             return self
+        reference, layout = self.mouth_reference, self.layout
         points = [lips.uncross(p, layout) for p in points]
         parts = [measure.interior(f, p, layout, tone.tone_gain(f, p, reference, layout)) for f, p in zip(frames, points)]
         pixels = (np.concatenate([f[m[0]] for f, m in zip(frames, parts)]), np.concatenate([f[m[1]] for f, m in zip(frames, parts)]))
