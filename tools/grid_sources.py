@@ -79,13 +79,13 @@ def scored(image: np.ndarray, name: str) -> np.ndarray | None:
 
 
 class Target(NamedTuple):
-    """A London face cloned onto: its neutral photo, its landmarks, and the judge's mesh and scores of it (None where
-    the mesh finds no face), read once for every clone."""
+    """A London face cloned onto: its neutral photo, its landmarks, and the judge's mesh and scores of it, read once for
+    every clone."""
 
     image: np.ndarray
     points: np.ndarray
-    mesh: np.ndarray | None
-    scores: np.ndarray | None
+    mesh: np.ndarray
+    scores: np.ndarray
 
 
 def laid(rest: np.ndarray, moved: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -102,21 +102,22 @@ def kept(
     """The rise kept of each of a clip's expressions on each target, and the judge's ceiling of each (the rise kept of
     the source's motion :func:`laid` on the target's mesh), both by target; and the names the source raises most."""
     (neutral, neutral_points), expressions = source(clip, frames)
-    rest_mesh = meshed(neutral, f"{clip.name} closed frame")
-    of_mesh = blendshapes.shared().of_mesh
     by_target: dict[str, list[float]] = collections.defaultdict(list)
     ceilings: dict[str, list[float]] = collections.defaultdict(list)
     names: list[str] = []
+    rest_mesh = meshed(neutral, f"{clip.name} closed frame")
+    if rest_mesh is None:
+        return by_target, ceilings, names
+    of_mesh = blendshapes.shared().of_mesh
+    rest = of_mesh(rest_mesh)
     for frame, points in expressions:
         moved_mesh = meshed(frame, f"{clip.name} open frame")
-        if rest_mesh is None or moved_mesh is None:
+        if moved_mesh is None:
             continue
-        rest, moved = of_mesh(rest_mesh), of_mesh(moved_mesh)
+        moved = of_mesh(moved_mesh)
         top = np.argsort(-(moved - rest)[blendshape_judge.PLACES["total"]])[: blendshape_judge.RISE_TOP]
         names += [blendshapes.EXPRESSION[i] for i in top]
         for name, target in targets.items():
-            if target.mesh is None or target.scores is None:
-                continue
             made = clone(neutral, frame, target.image, landmarks=(neutral_points, points, target.points), **options)
             result = scored(made.image, f"{name} clone")
             if result is not None:
@@ -143,7 +144,10 @@ def main() -> None:
     for name in args.targets:
         image = load_image(args.data / "london" / "neutral_front" / f"{name}_03.jpg")
         mesh = meshed(image, name)
-        targets[name] = Target(image, detect(image, name), mesh, None if mesh is None else blendshapes.shared().of_mesh(mesh))
+        if mesh is None:  # the judge sees no face on it: no clone of it could be judged
+            print(f"{name}: the judge's face mesh finds no face; left out")
+            continue
+        targets[name] = Target(image, detect(image, name), mesh, blendshapes.shared().of_mesh(mesh))
     options = {"method": args.method, "retarget": args.retarget}
     shown = f"{args.method}{'' if args.retarget else ', --no-retarget'}"
     print(f"{shown}: the rise kept of {args.frames} open frames per clip onto {', '.join(targets)}")
