@@ -43,6 +43,7 @@ from exprclone.evaluation.london import Dataset
 from exprclone.io.images import load_image
 from exprclone.landmarks import crowd
 from exprclone.landmarks.backends import shared
+from exprclone.landmarks.dlib import hog
 
 WIDTHS = (120, 176, 232, 288, 344, 400)
 SIZE = (3000, 2000)
@@ -53,7 +54,7 @@ HOG_SCALE = 0.4
 
 def hog_alone(image: np.ndarray) -> list[tuple[float, float, float, float]]:
     small = cv2.resize(image, None, fx=HOG_SCALE, fy=HOG_SCALE, interpolation=cv2.INTER_AREA)
-    return [(r.left() / HOG_SCALE, r.top() / HOG_SCALE, r.right() / HOG_SCALE, r.bottom() / HOG_SCALE) for r in crowd.hog()(small, 1)]
+    return [(r.left() / HOG_SCALE, r.top() / HOG_SCALE, r.right() / HOG_SCALE, r.bottom() / HOG_SCALE) for r in hog(small, 1)]
 
 
 def detectors() -> dict:

@@ -1,5 +1,7 @@
 """Integration: every method on real photos, and a real cross-person smile."""
 
+import threading
+
 import numpy as np
 import pytest
 
@@ -302,3 +304,27 @@ def test_a_prepared_clone_on_vtc_travels_to_another_process(pair):
     here = prepared.render(strength=0.5)
     there = pickle.loads(pickle.dumps(prepared)).render(strength=0.5)
     assert all(np.array_equal(here[m].image, there[m].image) for m in here)
+
+
+def test_threads_cloning_at_once_get_what_each_gets_alone(photo):
+    """``exprclone.clone`` from two threads at once, no landmarks given: the shared landmarkers (dlib's face detector,
+    BlazeFace over tiles) and the role check's judge run in both. Each model takes one thread at a time: before, one
+    thread's LiteRT call failed ("at least 1 reference to internal data") or dlib's detector found other faces."""
+    triples = [(photo(s)[0], photo(s, "smile")[0], photo(t)[0]) for s, t in (("001", "003"), ("003", "001"))]
+    alone = [exprclone.clone(*t, method="global").image for t in triples]
+    differ, failed = [], []
+
+    def clone(start):
+        try:
+            for k in range(4):
+                i = (start + k) % len(triples)
+                differ.append(not np.array_equal(exprclone.clone(*triples[i], method="global").image, alone[i]))
+        except Exception as e:  # noqa: BLE001  # (a thread's failure is the test's)
+            failed.append(repr(e))
+
+    threads = [threading.Thread(target=clone, args=(s,)) for s in (0, 1)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not failed and differ == [False] * 8, (failed, differ)

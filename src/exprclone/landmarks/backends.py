@@ -69,9 +69,10 @@ def check_landmarker(name: str, subject: str = "landmarker") -> str:
 
 
 def for_thread(name: str) -> Landmarker:
-    """A landmarker that one thread may use while others use theirs: the mesh's own (a LiteRT interpreter must not
-    be used by two threads at once; it loads in milliseconds), dlib's the shared one (its model takes most of a
-    second to load, and keeps no state between calls)."""
+    """A landmarker that one thread may use while others use theirs: the mesh's own (its models run one thread at a
+    time, :class:`~exprclone.landmarks.facemesh.Model`, and load in milliseconds), dlib's the shared one (its model
+    takes most of a second to load; its shape predictor keeps no state between calls, and its face detector runs one
+    thread at a time, :func:`~exprclone.landmarks.dlib.hog`)."""
     if check_landmarker(name) == "mesh":
         from .facemesh import MeshDetector  # (each landmarker's runtime loaded when it is chosen)
 

@@ -90,7 +90,8 @@ class IrisMesh(MeshDetector):
 class Blendshapes:
     """The 52 blendshape scores of a face (:data:`NAMES`); the models are loaded on first use.
 
-    One object is not for two threads at once (a LiteRT interpreter is not); :func:`shared` gives the process's own.
+    One object serves every thread, one at a time in each model (:class:`~exprclone.landmarks.facemesh.Model`);
+    :func:`shared` gives the process's own.
 
     Examples
     --------

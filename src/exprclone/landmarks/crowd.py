@@ -30,12 +30,13 @@ detector ships in dlib's code, BlazeFace under Apache-2.0), so the mesh landmark
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import cv2
 import numpy as np
+
+from .dlib import hog
 
 if TYPE_CHECKING:
     from .facemesh import MeshDetector
@@ -57,14 +58,6 @@ CONFIRM_SIDE = 120
 CONFIRM_REACH = 0.35
 #: faces whose centres lie within this share of their mean height of each other's are in one row (reading order).
 ROW = 0.5
-
-
-@functools.cache
-def hog() -> Any:
-    """dlib's HOG face detector (five upright and turned filters), loaded once (dlib has no type information)."""
-    import dlib  # (heavy: loaded when a face is looked at)
-
-    return dlib.get_frontal_face_detector()
 
 
 def tiles(shape: tuple[int, ...], side: int) -> list[tuple[int, int, int, int]]:
@@ -133,7 +126,7 @@ def confirm(image: np.ndarray, proposal: Box) -> Box | None:
     x1, y1 = min(w, int(centre[0] + CONFIRM_CROP * side / 2) + 1), min(h, int(centre[1] + CONFIRM_CROP * side / 2) + 1)
     scale = CONFIRM_SIDE / side
     crop = cv2.resize(image[y0:y1, x0:x1], None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA if scale < 1 else cv2.INTER_LINEAR)
-    found = [np.array([r.left(), r.top(), r.right(), r.bottom()]) / scale + [x0, y0, x0, y0] for r in hog()(crop, 0)]
+    found = [np.array([r.left(), r.top(), r.right(), r.bottom()]) / scale + [x0, y0, x0, y0] for r in hog(crop, 0)]
     reach = [float(np.linalg.norm((b[:2] + b[2:]) / 2 - centre)) for b in found]
     if not found or min(reach) > CONFIRM_REACH * side:
         return None

@@ -8,8 +8,10 @@ dlib's ensemble-of-regression-trees predictor, whose model ships in the
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import os
+import threading
 from typing import Any
 
 import cv2
@@ -32,6 +34,30 @@ def model_path(name: str) -> str:
     return path
 
 
+#: one thread at a time in dlib's HOG detector (:func:`hog`).
+_HOG_TURN = threading.Lock()
+
+
+@functools.cache
+def _hog_detector() -> Any:
+    import dlib  # heavy import, only when a face is really looked for
+
+    return dlib.get_frontal_face_detector()
+
+
+def hog(image: np.ndarray, upsample: int) -> Any:
+    """dlib's HOG face detector (five upright and turned filters) run on ``image`` (uint8, contiguous), upsampled
+    ``upsample`` times: its ``dlib.rectangles``.
+
+    One detector serves the process (it takes 0.4 s to load), one thread at a time: the detector keeps the image
+    pyramid it scans in itself, and dlib lets other threads run while it scans, so two threads detecting at once with
+    one detector scan each other's pyramids (wrong boxes, or a corrupted heap: ``tests/landmarks/test_dlib.py``).
+    """
+    detector = _hog_detector()
+    with _HOG_TURN:
+        return detector(image, upsample)
+
+
 class Detector:
     """Face detector plus 68-point shape predictor, loaded lazily on first use."""
 
@@ -39,16 +65,14 @@ class Detector:
     name = "dlib"
 
     def __init__(self) -> None:
-        # dlib's module, face detector and shape predictor, loaded by _load (dlib has no type information)
+        # dlib's module and shape predictor, loaded by _load (dlib has no type information)
         self._dlib: Any = None
-        self._detector: Any = None
         self._predictor: Any = None
 
     def _load(self) -> None:
         import dlib  # heavy import, only when landmarks are really detected
 
         self._dlib = dlib
-        self._detector = dlib.get_frontal_face_detector()
         self._predictor = dlib.shape_predictor(model_path("shape_predictor_68_face_landmarks.dat"))
 
     def faces(self, image: np.ndarray) -> list[tuple[float, float, float, float]]:
@@ -57,15 +81,13 @@ class Detector:
         Detection runs on a copy downscaled to :data:`DETECT_SIZE`; if it finds nothing
         it tries once more with dlib's 2x upsampling, for small faces.
         """
-        if self._detector is None:
-            self._load()
         scale = min(1.0, DETECT_SIZE / max(image.shape[:2]))
         # dlib reads the buffer as if contiguous: a strided view (a crop, a video frame with
         # padded rows) would be read as garbage, so it gets a contiguous copy
         small = cv2.resize(image, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA) if scale < 1 else np.ascontiguousarray(image)
-        rects = self._detector(small, 0)
+        rects = hog(small, 0)
         if len(rects) == 0:
-            rects = self._detector(small, 1)
+            rects = hog(small, 1)
         boxes = [(r.left() / scale, r.top() / scale, r.right() / scale, r.bottom() / scale) for r in rects]
         return sorted(boxes, key=lambda b: -(b[2] - b[0]) * (b[3] - b[1]))
 

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
 from importlib import resources
@@ -73,7 +74,10 @@ def _quiet_stderr() -> Iterator[None]:
 
 
 class Model:
-    """One LiteRT model of ``exprclone/landmarks/mediapipe_models``: one float32 input in (an NHWC image, or points), its outputs out."""
+    """One LiteRT model of ``exprclone/landmarks/mediapipe_models``: one float32 input in (an NHWC image, or points), its
+    outputs out; run by one thread at a time (a LiteRT interpreter is not for two at once: another thread's call
+    raised "There is at least 1 reference to internal data"), so that the process's shared landmarkers and judges
+    (:func:`exprclone.landmarks.backends.shared`) serve every thread."""
 
     def __init__(self, name: str) -> None:
         try:
@@ -90,13 +94,16 @@ class Model:
             self._interpreter.allocate_tensors()
         self._input = self._interpreter.get_input_details()[0]["index"]
         self._outputs = [d["index"] for d in self._interpreter.get_output_details()]
+        self._turn = threading.Lock()
 
     def __call__(self, x: np.ndarray) -> list[np.ndarray]:
         """The model's outputs for one float32 input (an ``(S, S, 3)`` image, ``(N, 2)`` points), the batch axis removed
         where an output has one (the blendshape model's scores have none)."""
-        self._interpreter.set_tensor(self._input, x[None])
-        self._interpreter.invoke()
-        return [t[0] if t.ndim > 1 else t for t in map(self._interpreter.get_tensor, self._outputs)]
+        with self._turn:
+            self._interpreter.set_tensor(self._input, x[None])
+            self._interpreter.invoke()
+            outputs = [self._interpreter.get_tensor(i) for i in self._outputs]  # (copies)
+        return [t[0] if t.ndim > 1 else t for t in outputs]
 
 
 @dataclass(frozen=True)

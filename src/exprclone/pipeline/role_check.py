@@ -66,7 +66,6 @@ from __future__ import annotations
 
 import functools
 import json
-import threading
 from dataclasses import dataclass, field
 from importlib import resources
 from typing import Any
@@ -124,15 +123,12 @@ EXPRESSION = blendshapes.indices(blendshapes.EXPRESSION)
 #: people's faces at rest: the mean of each expression score (:data:`EXPRESSION`) over the London Set's neutral photos,
 #: and its spread (the standard deviation and :data:`REST_FLOOR` added in quadrature), written with :data:`NEUTRAL_FACE`.
 REST = (np.array(_LEARNT["rest_mean"], float), np.array(_LEARNT["rest_spread"], float))
-#: one scorer at a time (a LiteRT interpreter is not for two threads at once).
-_SCORING = threading.Lock()
 
 
 def scores(image: np.ndarray, points: np.ndarray, layout: Layout) -> np.ndarray:
     """The blendshape scores ``(52,)`` of the face with these landmarks in an ``(H, W, 3)`` uint8 RGB photo
     (:meth:`exprclone.landmarks.blendshapes.Blendshapes.scores_at`: the mesh fitted where the landmarks are)."""
-    with _SCORING:
-        return blendshapes.shared().scores_at(image, points, layout.eye_corners)
+    return blendshapes.shared().scores_at(image, points, layout.eye_corners)
 
 
 @dataclass(frozen=True)

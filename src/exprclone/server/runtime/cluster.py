@@ -70,7 +70,7 @@ class Models(WorkerPlugin):  # type: ignore[misc]  # (distributed's classes are 
         work.load_models()
         if worker.state.nthreads > 1:
             log.warning(
-                "worker %s runs %d threads: start it with --nthreads 1 (a landmarker is shared by the threads of a process)",
+                "worker %s runs %d threads: start it with --nthreads 1 (a process's threads wait on its landmarkers, one at a time)",
                 worker.address,
                 worker.state.nthreads,
             )
