@@ -61,6 +61,33 @@ def test_read_frames_yields_every_frame_as_contiguous_rgb(grid_clip, clip_frames
     capture.release()
 
 
+def lossless_clip(path: Path, frames: list[np.ndarray], rotation: int = 0) -> None:
+    """``frames`` in an H.264 file without loss (4:4:4, qp 0), stored turned clockwise by ``rotation`` degrees with a
+    display matrix that turns them back, as a phone stores a video filmed upright."""
+    stored = [np.ascontiguousarray(np.rot90(f, -rotation // 90)) for f in frames]
+    with av.open(str(path), "w") as container:
+        stream = container.add_stream("libx264", rate=25, options={"qp": "0"})
+        stream.height, stream.width = stored[0].shape[:2]
+        stream.pix_fmt = "yuv444p"
+        if rotation:
+            stream.set_display_rotation(rotation)
+        for frame in stored:
+            container.mux(stream.encode(av.VideoFrame.from_ndarray(frame, format="rgb24")))
+        container.mux(stream.encode())
+
+
+@pytest.mark.parametrize("rotation", [90, -90, 180])
+def test_a_phones_turned_video_is_read_upright(clip_frames, tmp_path, rotation):
+    """A phone's video, stored turned with a display matrix, is read as a player shows it: the frames of the same video
+    stored upright, pixel for pixel. Before, its frames came turned, and ``exprclone video`` found no face in any."""
+    lossless_clip(tmp_path / "upright.mp4", clip_frames[:8])
+    lossless_clip(tmp_path / "turned.mp4", clip_frames[:8], rotation)
+    upright, turned = list(read_frames(tmp_path / "upright.mp4")), list(read_frames(tmp_path / "turned.mp4"))
+    assert len(turned) == 8 and all(f.shape == (288, 360, 3) and f.flags.c_contiguous for f in turned)
+    assert all(np.array_equal(a, b) for a, b in zip(turned, upright))
+    assert mean_abs_difference(upright[0], clip_frames[0]) < 1.0  # (lossless but for the colour conversion's rounding)
+
+
 def test_round_trip_keeps_frames_rate_and_sound(grid_clip, clip_frames, tmp_path):
     out = tmp_path / "copy.mp4"
     assert write_video(out, iter(clip_frames), probe(grid_clip).fps, audio_from=grid_clip) == 75

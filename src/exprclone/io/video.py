@@ -10,6 +10,11 @@ PyAV.
 Colour: a decoded frame is converted to RGB by the YUV matrix and range its tags name (BT.601 and
 limited range if untagged, as FFmpeg assumes); written frames are converted by BT.709, limited
 range, and tagged so, which players honour.
+
+Orientation: a phone stores a video filmed upright as its sensor sees it, turned a quarter, with a
+display matrix that players turn it back by; each frame is read turned as players show it (its
+rotation by quarter turns; a matrix's mirroring, rare, is not undone). :func:`probe` gives the
+size as stored.
 """
 
 from __future__ import annotations
@@ -102,7 +107,7 @@ class VideoInfo:
     path : str
         The file.
     width, height : int
-        Frame size in pixels.
+        Frame size in pixels, as stored (:func:`read_frames` turns a phone's frames upright: see the module's notes).
     fps : fractions.Fraction
         Frame rate of the video stream (its average rate, else FFmpeg's guess, else its base rate).
     frames : int
@@ -183,7 +188,8 @@ def read_frames(path: PathLike, limits: Limits | None = None) -> Iterator[np.nda
     Returns
     -------
     iterator of numpy.ndarray
-        Each frame as a C-contiguous array of shape (H, W, 3), dtype uint8, RGB order.
+        Each frame as a C-contiguous array of shape (H, W, 3), dtype uint8, RGB order, upright as a player shows it
+        (see the module's notes).
 
     Raises
     ------
@@ -394,8 +400,8 @@ def _decode(path: PathLike, container: av.container.InputContainer, limits: Limi
                 rgb = frame.to_ndarray(
                     format="rgb24", src_colorspace=matrix, dst_colorspace=Colorspace.DEFAULT, src_color_range=frame.color_range
                 )
-                # to_ndarray returns a view of FFmpeg's row-padded buffer: give a C-contiguous copy of its own
-                yield np.ascontiguousarray(rgb)
+                # to_ndarray returns a view of FFmpeg's row-padded buffer: give a C-contiguous copy of its own, upright
+                yield np.ascontiguousarray(np.rot90(rgb, quarter_turns(frame.rotation)))
         except av.FFmpegError as exc:
             too_large = limits is not None and limits.max_pixels is not None
             raise ExprCloneError(
@@ -404,6 +410,16 @@ def _decode(path: PathLike, container: av.container.InputContainer, limits: Limi
                 if too_large
                 else f"video data is corrupt ({exc.strerror})",
             ) from exc
+
+
+def quarter_turns(rotation: float) -> int:
+    """How many counter-clockwise quarter turns (``np.rot90``'s ``k``) show a frame upright whose display matrix turns it
+    by ``rotation`` degrees counter-clockwise (PyAV's ``VideoFrame.rotation``); 0 for an angle between quarters.
+
+    >>> quarter_turns(0), quarter_turns(90), quarter_turns(-90), quarter_turns(180), quarter_turns(30)
+    (0, 1, 3, 2, 0)
+    """
+    return round(rotation / 90) % 4 if rotation % 90 == 0 else 0
 
 
 def _frame_rate(path: PathLike, stream: av.video.stream.VideoStream) -> Fraction:
