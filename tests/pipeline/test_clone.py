@@ -139,6 +139,8 @@ def test_bad_arguments_raise_the_project_error(pair):
         exprclone.clone(images[0], images[1], np.full((400, 400, 3), 128, np.uint8), landmarks=landmarks[:2] + (None,))
     with pytest.raises(exprclone.ExprCloneError, match="^source_neutral: expected an \\(H, W, 3\\) uint8"):
         exprclone.clone(images[0].astype(float), *images[1:], landmarks=landmarks)
+    with pytest.raises(exprclone.ExprCloneError, match="^target_neutral: a file's path \\(portrait.jpg\\), not its image: read it with"):
+        exprclone.clone(*images[:2], "portrait.jpg", landmarks=landmarks)
 
 
 def test_methods_together_equal_methods_alone(pair, results):

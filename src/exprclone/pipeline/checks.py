@@ -8,6 +8,7 @@ worded the same way everywhere.
 from __future__ import annotations
 
 import dataclasses
+import os
 
 import numpy as np
 
@@ -24,7 +25,10 @@ MIN_SPREAD = 0.2
 
 
 def check_image(image: np.ndarray, subject: str) -> np.ndarray:
-    """An ``(H, W, 3)`` uint8 RGB image, or ExprCloneError about ``subject``."""
+    """An ``(H, W, 3)`` uint8 RGB image, or ExprCloneError about ``subject`` (a file's path given for its image: how to
+    read it)."""
+    if isinstance(image, (str, os.PathLike)):
+        raise ExprCloneError(subject, f"a file's path ({os.fspath(image)}), not its image: read it with exprclone.io.images.load_image")
     image = np.asarray(image)
     if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
         raise ExprCloneError(subject, f"expected an (H, W, 3) uint8 RGB image, got shape {image.shape} dtype {image.dtype}")
