@@ -179,6 +179,13 @@ def _truncated_jpeg(tmp_path: Path, photo_path: Path) -> Path:
     return path
 
 
+def _heic(tmp_path: Path, photo_path: Path) -> Path:
+    """The start of a phone's HEIC photo (its file-type box: brand heic, compatible mif1), which Pillow cannot read."""
+    path = tmp_path / "IMG_0001.HEIC"
+    path.write_bytes(b"\x00\x00\x00\x18ftypheic\x00\x00\x00\x00mif1heic" + bytes(64))
+    return path
+
+
 def _tiny_png(tmp_path: Path, photo_path: Path) -> Path:
     path = tmp_path / "tiny.png"
     Image.new("RGB", (20, 40)).save(path)
@@ -202,6 +209,7 @@ def _header_of_108_megapixels(tmp_path: Path, photo_path: Path) -> Path:
         (_missing, "no such file"),
         (_directory, "is a directory"),
         (_text_as_jpeg, "not an image"),
+        (_heic, "a HEIC photo, which cannot be read here: save it as JPEG or PNG"),
         (_truncated_jpeg, "corrupt or truncated"),
         (_tiny_png, "too small"),
         (_header_of_108_megapixels, "image is too large (12000x9000 pixels; at most 89.4785 megapixels)"),

@@ -258,8 +258,23 @@ def _open(path: PathLike | bytes, name: str, max_pixels: int | None) -> tuple[Im
             image.close()
         if isinstance(exc, ExprCloneError):
             raise
-        raise _read_error(name, exc, max_pixels) from exc
+        raise _read_error(name, exc, max_pixels, _heif(path) if isinstance(exc, UnidentifiedImageError) else False) from exc
     return image, rawmode
+
+
+#: the brands an ISO base media file names in its first box (``ftyp``) when it holds a HEIF photo of HEVC tiles, as
+#: phones take them (AVIF, which Pillow reads, names its own).
+HEIF_BRANDS = (b"heic", b"heix", b"heim", b"heis", b"hevc", b"hevx", b"mif1", b"msf1")
+
+
+def _heif(path: PathLike | bytes) -> bool:
+    """Whether the file (or content) begins as a HEIF photo does (:data:`HEIF_BRANDS`)."""
+    if isinstance(path, bytes):
+        head = path[:12]
+    else:
+        with open(path, "rb") as file:  # (opened a moment ago, by Pillow)
+            head = file.read(12)
+    return head[4:8] == b"ftyp" and head[8:12] in HEIF_BRANDS
 
 
 def _stored_rawmode(image: ImageFile.ImageFile) -> str:
@@ -270,12 +285,15 @@ def _stored_rawmode(image: ImageFile.ImageFile) -> str:
     return args[0] if isinstance(args, tuple) else str(args)
 
 
-def _read_error(name: str, exc: BaseException, max_pixels: int | None = None) -> ExprCloneError:
-    """The ExprCloneError for a failure to open or decode the image called ``name`` (its size bounded by ``max_pixels``)."""
+def _read_error(name: str, exc: BaseException, max_pixels: int | None = None, heif: bool = False) -> ExprCloneError:
+    """The ExprCloneError for a failure to open or decode the image called ``name`` (its size bounded by ``max_pixels``;
+    ``heif``: a HEIF photo, which Pillow cannot read)."""
     if isinstance(exc, FileNotFoundError):
         problem = "no such file"
     elif isinstance(exc, PermissionError):
         problem = "cannot be read (permission denied)"
+    elif isinstance(exc, UnidentifiedImageError) and heif:
+        problem = "a HEIC photo, which cannot be read here: save it as JPEG or PNG (a phone can take photos as JPEG)"
     elif isinstance(exc, UnidentifiedImageError):
         problem = "not an image (cannot be read by Pillow)"
     elif isinstance(exc, Image.DecompressionBombError):  # Pillow's own guard, in its header: said as check_size says it
