@@ -272,8 +272,11 @@ def _heif(path: PathLike | bytes) -> bool:
     if isinstance(path, bytes):
         head = path[:12]
     else:
-        with open(path, "rb") as file:  # (opened a moment ago, by Pillow)
-            head = file.read(12)
+        try:
+            with open(path, "rb") as file:
+                head = file.read(12)
+        except OSError:  # (gone since Pillow read it: the error says what Pillow found)
+            return False
     return head[4:8] == b"ftyp" and head[8:12] in HEIF_BRANDS
 
 
