@@ -327,9 +327,9 @@ def startup_ms(repeat: int) -> dict[str, float]:
     def cmd(*args):
         return median_ms(lambda: subprocess.run(list(args), capture_output=True, check=True), repeat)
 
-    photos = [str(sample_path(SOURCE)), str(sample_path(SOURCE, "smile")), str(sample_path(TARGET))]
+    samples = [str(sample_path(SOURCE)), str(sample_path(SOURCE, "smile")), str(sample_path(TARGET))]
     with tempfile.TemporaryDirectory() as out:
-        whole = cmd(sys.executable, "-m", "exprclone", "clone", *photos, "-o", os.path.join(out, "clone.png"))
+        whole = cmd(sys.executable, "-m", "exprclone", "clone", *samples, "-o", os.path.join(out, "clone.png"))
     return {
         "python -c pass (interpreter floor)": cmd(sys.executable, "-c", "pass"),
         "exprclone --help": cmd(sys.executable, "-m", "exprclone", "--help"),

@@ -419,7 +419,7 @@ def quarter_turns(rotation: float) -> int:
     >>> quarter_turns(0), quarter_turns(90), quarter_turns(-90), quarter_turns(180), quarter_turns(30)
     (0, 1, 3, 2, 0)
     """
-    return round(rotation / 90) % 4 if rotation % 90 == 0 else 0
+    return int(rotation // 90 % 4) if rotation % 90 == 0 else 0
 
 
 def _frame_rate(path: PathLike, stream: av.video.stream.VideoStream) -> Fraction:

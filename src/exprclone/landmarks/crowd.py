@@ -158,8 +158,8 @@ def find(image: np.ndarray, mesh: MeshDetector) -> list[Box]:
     ----------
     image : ndarray of shape (H, W, 3), uint8
     mesh : MeshDetector
-        Whose BlazeFace proposes (a LiteRT interpreter is used by one thread at a time:
-        :func:`exprclone.landmarks.backends.for_thread`).
+        Whose BlazeFace proposes (from any thread: its model takes one at a time,
+        :class:`~exprclone.landmarks.facemesh.Model`).
 
     Returns
     -------
